@@ -1,0 +1,41 @@
+// tightbvh info MESH... [--json]: vertices, triangles, degenerate triangles, bounds.
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "tightbvh/mesh.hpp"
+
+namespace tightbvh::cli {
+
+void add_info_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("info", "print statistics of meshes");
+  struct Args {
+    std::vector<std::string> meshes;
+    bool json = false;
+  };
+  auto args = std::make_shared<Args>();
+  cmd->add_option("meshes", args->meshes, "mesh files (OBJ, OFF, STL, PLY, ...)")->required();
+  cmd->add_flag("--json", args->json, "print JSON instead of text");
+  cmd->callback([args] {
+    nlohmann::json out = nlohmann::json::array();
+    for (const std::string& path : args->meshes) {
+      const Mesh mesh = load_mesh(path);
+      const MeshStats s = validate(mesh, path);
+      const auto vec = [](const Vec3& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); };
+      if (args->json) {
+        out.push_back({{"mesh", path},
+                       {"vertices", s.vertices},
+                       {"triangles", s.triangles},
+                       {"degenerate_triangles", s.degenerate_triangles},
+                       {"bounds", {{"min", vec(s.bounds.min)}, {"max", vec(s.bounds.max)}}}});
+      } else {
+        std::cout << path << ": " << s.vertices << " vertices, " << s.triangles << " triangles, "
+                  << s.degenerate_triangles << " degenerate, bounds [" << s.bounds.min.transpose() << "] - ["
+                  << s.bounds.max.transpose() << "]\n";
+      }
+    }
+    if (args->json) std::cout << out.dump(2) << '\n';
+  });
+}
+
+}  // namespace tightbvh::cli

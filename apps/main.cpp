@@ -1,0 +1,20 @@
+// The `tightbvh` command-line tool. Errors: one line on stderr, non-zero exit.
+#include <exception>
+#include <iostream>
+
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"tightbvh: tight oriented-box hierarchies for collision detection"};
+  app.require_subcommand(1);
+  tightbvh::cli::add_info_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::cerr << "tightbvh: error: " << e.what() << '\n';
+    return 1;
+  }
+  return 0;
+}

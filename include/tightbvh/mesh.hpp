@@ -1,0 +1,47 @@
+#pragma once
+// Triangle soup: vertices + index triples. No connectivity is assumed anywhere.
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "tightbvh/aabb.hpp"
+
+namespace tightbvh {
+
+using Triangle = std::array<std::uint32_t, 3>;
+
+struct Mesh {
+  std::vector<Vec3> vertices;
+  std::vector<Triangle> triangles;
+
+  [[nodiscard]] std::array<Vec3, 3> corners(std::size_t triangle) const {
+    const Triangle& t = triangles[triangle];
+    return {vertices[t[0]], vertices[t[1]], vertices[t[2]]};
+  }
+};
+
+// Every error about input data: the message names the source (file or "mesh") and the problem.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct MeshStats {
+  std::size_t vertices = 0;
+  std::size_t triangles = 0;
+  std::size_t degenerate_triangles = 0;  // zero area (kept, but counted)
+  Aabb bounds;
+};
+
+// Loads OBJ/OFF/STL/PLY (anything assimp reads): polygons triangulated, sub-meshes merged,
+// double precision. Throws InputError naming the file and the problem; the result is validated.
+[[nodiscard]] Mesh load_mesh(const std::filesystem::path& path);
+
+// Throws InputError on NaN/Inf coordinates, indices out of range or zero triangles.
+// `source` names the mesh in messages.
+MeshStats validate(const Mesh& mesh, const std::string& source = "mesh");
+
+}  // namespace tightbvh

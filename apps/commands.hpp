@@ -4,6 +4,9 @@
 
 namespace tightbvh::cli {
 
-void add_info_command(CLI::App& app);
+void add_info_command(CLI::App& app);     // cmd_info.cpp
+void add_fit_command(CLI::App& app);      // cmd_fit.cpp
+void add_build_command(CLI::App& app);    // cmd_build.cpp (build, inspect)
+void add_collide_command(CLI::App& app);  // cmd_collide.cpp
 
 }  // namespace tightbvh::cli

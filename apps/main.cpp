@@ -8,6 +8,9 @@ int main(int argc, char** argv) {
   CLI::App app{"tightbvh: tight oriented-box hierarchies for collision detection"};
   app.require_subcommand(1);
   tightbvh::cli::add_info_command(app);
+  tightbvh::cli::add_fit_command(app);
+  tightbvh::cli::add_build_command(app);
+  tightbvh::cli::add_collide_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

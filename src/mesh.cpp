@@ -6,7 +6,7 @@
 namespace tightbvh {
 
 MeshStats validate(const Mesh& mesh, const std::string& source) {
-  if (mesh.triangles.empty()) throw InputError(source + ": mesh has no triangles");
+  if (mesh.triangles.empty()) throw InputError(source + ": no triangles");
   MeshStats stats;
   stats.vertices = mesh.vertices.size();
   stats.triangles = mesh.triangles.size();
@@ -24,8 +24,8 @@ MeshStats validate(const Mesh& mesh, const std::string& source) {
     for (const std::uint32_t index : mesh.triangles[t]) {
       if (index >= mesh.vertices.size()) {
         std::ostringstream msg;
-        msg << source << ": triangle " << t << " references vertex " << index << " but the mesh has only "
-            << mesh.vertices.size() << " vertices";
+        msg << source << ": triangle " << t << ": vertex index " << index << " is out of range (the mesh has "
+            << mesh.vertices.size() << " vertices)";
         throw InputError(msg.str());
       }
     }

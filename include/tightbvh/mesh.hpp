@@ -36,8 +36,13 @@ struct MeshStats {
   Aabb bounds;
 };
 
-// Loads OBJ/OFF/STL/PLY (anything assimp reads): polygons triangulated, sub-meshes merged,
-// double precision. Throws InputError naming the file and the problem; the result is validated.
+// Loads OBJ, OFF, STL or PLY (by extension; files without one are recognised by content) through
+// assimp: polygons triangulated, sub-meshes merged, points and lines dropped. Coordinates are
+// stored as double but pass through assimp's single precision. OBJ and STL corners that assimp
+// duplicates are welded back (exactly equal positions only); OFF and PLY keep the file's vertices.
+// Throws InputError "<path>: <problem>" for a missing file, a directory, an unknown format, an
+// empty, malformed or truncated file, non-finite coordinates, out-of-range indices or no
+// triangles. The result has passed validate(); degenerate triangles are kept.
 [[nodiscard]] Mesh load_mesh(const std::filesystem::path& path);
 
 // Throws InputError on NaN/Inf coordinates, indices out of range or zero triangles.

@@ -13,8 +13,16 @@ int main(int argc, char** argv) {
   tightbvh::cli::add_collide_command(app);
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // One line, like every other error (CLI11's default adds a "Run with --help" line).
+    std::cerr << "tightbvh: error: " << e.what() << " (see --help)\n";
+    return e.get_exit_code() != 0 ? e.get_exit_code() : 2;
   } catch (const std::exception& e) {
     std::cerr << "tightbvh: error: " << e.what() << '\n';
     return 1;

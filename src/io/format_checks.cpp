@@ -140,6 +140,7 @@ CheckResult check_obj(std::string_view text, const std::string& name) {
   check_text(text, name, "OBJ");
   Lines lines(text, true);
   std::uint64_t vertices = 0;
+  std::uint64_t triangles = 0;
   std::int64_t max_index = 0;  // largest positive index, checked once all vertices are known
   std::size_t max_index_line = 0;
   while (auto tokens = lines.next_nonempty()) {
@@ -152,6 +153,7 @@ CheckResult check_obj(std::string_view text, const std::string& name) {
       const std::size_t corners = tokens->size() - 1;
       if (corners < 3)
         fail(name, at_line(line) + "malformed face with " + std::to_string(corners) + " vertices (need at least 3)");
+      triangles += corners - 2;
       for (std::size_t i = 1; i < tokens->size(); ++i) {
         const std::string_view corner = (*tokens)[i];
         const auto index = parse_int<std::int64_t>(corner.substr(0, corner.find('/')));
@@ -170,7 +172,9 @@ CheckResult check_obj(std::string_view text, const std::string& name) {
   if (static_cast<std::uint64_t>(max_index) > vertices)
     fail(name, at_line(max_index_line) + "face index " + std::to_string(max_index) + " is out of range: the file has " +
                    std::to_string(vertices) + " vertices");
-  return welded();
+  CheckResult result = welded();
+  result.expected_triangles = triangles;
+  return result;
 }
 
 // ------------------------------------------------------------------------------------------ OFF
@@ -241,6 +245,7 @@ CheckResult check_off(std::string_view text, const std::string& name) {
                        ")");
     }
     emit(*tokens, *corners + 1);
+    result.expected_triangles += *corners - 2;
   }
   return result;
 }
@@ -399,6 +404,7 @@ CheckResult check_ply(std::string_view bytes, const std::string& name) {
   }
   if (!have_format) fail(name, "malformed PLY header: no 'format' line");
 
+  std::uint64_t expected_triangles = 0;
   std::uint64_t vertex_count = 0;
   std::uint64_t face_count = 0;
   for (const PlyElement& e : elements) {
@@ -414,6 +420,7 @@ CheckResult check_ply(std::string_view bytes, const std::string& name) {
     if (corners < 3)
       fail(name, "malformed PLY: face " + std::to_string(instance) + " has " + std::to_string(corners) +
                      " vertices (need at least 3)");
+    expected_triangles += static_cast<std::uint64_t>(corners) - 2;
     for (std::int64_t i = 0; i < corners; ++i) {
       const std::int64_t index = index_at(i);
       if (index < 0 || static_cast<std::uint64_t>(index) >= vertex_count)
@@ -499,7 +506,9 @@ CheckResult check_ply(std::string_view bytes, const std::string& name) {
       }
     }
   }
-  return {};
+  CheckResult result;
+  result.expected_triangles = expected_triangles;
+  return result;
 }
 
 // ------------------------------------------------------------------------------------------ sniffing

@@ -25,6 +25,10 @@ struct CheckResult {
   // coordinates dropped (tokens copied verbatim, so no precision is lost). assimp 5.2 rejects
   // valid OFF variants such as COFF with RGB instead of RGBA colours or comments after values.
   std::string normalized;
+  // Triangles the file's polygons make (a k-gon gives k - 2); 0 if unknown. assimp 5.2 drops the
+  // rest of a polygon it cannot ear-clip (non-simple polygons) and only logs it: the loader
+  // compares its result with this count.
+  std::uint64_t expected_triangles = 0;
 };
 
 // `name` prefixes every message ("<name>: <problem>"). Throws tightbvh::InputError.

@@ -133,6 +133,10 @@ Mesh load_mesh(const std::filesystem::path& path) {
       mesh.triangles.push_back(t);
     }
   }
+  if (checked.expected_triangles != 0 && mesh.triangles.size() != checked.expected_triangles)
+    throw InputError(name + ": cannot triangulate: the file's polygons make " +
+                     std::to_string(checked.expected_triangles) + " triangles but assimp produced " +
+                     std::to_string(mesh.triangles.size()) + " (non-simple or non-planar polygons?)");
   if (mesh.triangles.empty())
     throw InputError(name + ": no triangles: the file holds no faces (only points, lines or nothing)");
   (void)validate(mesh, name);

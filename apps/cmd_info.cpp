@@ -1,6 +1,8 @@
 // tightbvh info MESH... [--json]: vertices, triangles, degenerate triangles, bounds.
+#include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "commands.hpp"
 #include "tightbvh/mesh.hpp"
@@ -19,8 +21,8 @@ void add_info_command(CLI::App& app) {
   cmd->callback([args] {
     nlohmann::json out = nlohmann::json::array();
     for (const std::string& path : args->meshes) {
-      const Mesh mesh = load_mesh(path);
-      const MeshStats s = validate(mesh, path);
+      // load_mesh validates; validate() again is cheap and gives the statistics.
+      const MeshStats s = validate(load_mesh(path), path);
       const auto vec = [](const Vec3& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); };
       if (args->json) {
         out.push_back({{"mesh", path},
@@ -29,9 +31,14 @@ void add_info_command(CLI::App& app) {
                        {"degenerate_triangles", s.degenerate_triangles},
                        {"bounds", {{"min", vec(s.bounds.min)}, {"max", vec(s.bounds.max)}}}});
       } else {
+        const auto text = [](const Vec3& v) {
+          std::ostringstream os;
+          os << std::setprecision(9) << '(' << v.x() << ", " << v.y() << ", " << v.z() << ')';
+          return os.str();
+        };
         std::cout << path << ": " << s.vertices << " vertices, " << s.triangles << " triangles, "
-                  << s.degenerate_triangles << " degenerate, bounds [" << s.bounds.min.transpose() << "] - ["
-                  << s.bounds.max.transpose() << "]\n";
+                  << s.degenerate_triangles << " degenerate, bounds " << text(s.bounds.min) << " - "
+                  << text(s.bounds.max) << '\n';
       }
     }
     if (args->json) std::cout << out.dump(2) << '\n';

@@ -223,6 +223,7 @@ CheckResult check_off(std::string_view text, const std::string& name) {
                      " faces but the file ends after " + std::to_string(v) + " vertices");
     check_coordinates(*tokens, 0, lines, name, "vertex");
     emit(*tokens, 3);
+    result.precise_vertices.push_back({*parse_double((*tokens)[0]), *parse_double((*tokens)[1]), *parse_double((*tokens)[2])});
   }
   for (std::uint64_t f = 0; f < *nf; ++f) {
     auto tokens = lines.next_nonempty();

@@ -6,9 +6,11 @@
 // header with 3.5e11 vertices takes ~16 GB before failing) and aborts the process through
 // ai_assert on some malformed input (zero-length faces, truncated OFF). These checks walk the
 // file once, allocate nothing proportional to header counts, and throw a precise InputError.
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace tightbvh::io {
 
@@ -29,6 +31,8 @@ struct CheckResult {
   // rest of a polygon it cannot ear-clip (non-simple polygons) and only logs it: the loader
   // compares its result with this count.
   std::uint64_t expected_triangles = 0;
+  // OFF only: the vertices parsed in double precision (assimp reads single precision).
+  std::vector<std::array<double, 3>> precise_vertices;
 };
 
 // `name` prefixes every message ("<name>: <problem>"). Throws tightbvh::InputError.

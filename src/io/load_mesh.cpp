@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <bit>
 #include <cctype>
+#include <cmath>
+#include <limits>
 #include <fstream>
 #include <iterator>
 #include <system_error>
@@ -132,6 +134,22 @@ Mesh load_mesh(const std::filesystem::path& path) {
       }
       mesh.triangles.push_back(t);
     }
+  }
+  // OFF: assimp keeps the file's vertex order, so its single-precision coordinates can be swapped
+  // for the double values we parsed, after checking that the two agree vertex by vertex.
+  const auto& precise = checked.precise_vertices;
+  if (!precise.empty() && precise.size() == mesh.vertices.size()) {
+    bool same = true;
+    for (std::size_t i = 0; same && i < precise.size(); ++i)
+      for (int a = 0; a < 3; ++a) {
+        // assimp's fast_atof is not correctly rounded: allow a few float ulps.
+        const double p = precise[i][a];
+        const double q = mesh.vertices[i][a];
+        same = same && (std::isinf(q) ? std::abs(p) >= std::numeric_limits<float>::max()
+                                      : std::abs(p - q) <= 4e-7 * std::max(std::abs(p), 1e-30));
+      }
+    if (same)
+      for (std::size_t i = 0; i < precise.size(); ++i) mesh.vertices[i] = Vec3(precise[i][0], precise[i][1], precise[i][2]);
   }
   if (checked.expected_triangles != 0 && mesh.triangles.size() != checked.expected_triangles)
     throw InputError(name + ": cannot triangulate: the file's polygons make " +

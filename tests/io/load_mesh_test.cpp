@@ -25,6 +25,7 @@ const fs::path corpus_dir = source_dir / "meshes" / "corpus";
 struct Counts {
   std::size_t vertices = 0;
   std::size_t triangles = 0;  // after fan/ear triangulation: a k-gon gives k - 2
+  Vec3 last_vertex = Vec3::Zero();  // OFF only
 };
 
 std::vector<std::vector<std::string>> token_lines(const fs::path& path) {
@@ -49,6 +50,8 @@ Counts count_off(const fs::path& path) {
   if (counts.empty()) counts = lines[++row];
   Counts c;
   c.vertices = std::stoul(counts[0]);
+  const auto& last = lines[row + c.vertices];
+  c.last_vertex = Vec3(std::stod(last[0]), std::stod(last[1]), std::stod(last[2]));
   const std::size_t faces = std::stoul(counts[1]);
   for (std::size_t f = 0; f < faces; ++f) c.triangles += std::stoul(lines[row + 1 + c.vertices + f][0]) - 2;
   return c;
@@ -118,6 +121,7 @@ TEST(LoadMesh, ShippedMeshesLoadWithTheirHeaderCounts) {
       const Counts expected = count_off(path);
       EXPECT_EQ(stats.vertices, expected.vertices);
       EXPECT_EQ(stats.triangles, expected.triangles);
+      EXPECT_EQ(mesh.vertices.back(), expected.last_vertex);  // double precision, as written
     }
   }
 }
@@ -277,6 +281,7 @@ TEST(LoadMeshCgalCorpus, EverySurfaceMeshLoads) {
       const Counts expected = count_off(path);
       EXPECT_EQ(stats.vertices, expected.vertices);
       EXPECT_EQ(stats.triangles, expected.triangles);
+      EXPECT_EQ(mesh.vertices.back(), expected.last_vertex);  // double precision, as written
     }
     ++loaded;
   }
@@ -352,6 +357,14 @@ TEST_F(LoadMeshBadFiles, RelativeObjIndicesAreResolved) {
   EXPECT_EQ(mesh.corners(1)[2], Vec3(0, 0, 1));
 }
 
+TEST_F(LoadMeshBadFiles, OffCoordinatesKeepDoublePrecision) {
+  const Mesh mesh = load_mesh(write("precise.off", replace(tetra_off, "0 1 0\n", "0.1 1e39 0.3\n")));
+  EXPECT_EQ(mesh.vertices[2], Vec3(0.1, 1e39, 0.3));  // not float(0.1), not float's infinity
+  // Formats read by assimp alone go through single precision.
+  const Mesh obj = load_mesh(write("single.obj", replace(tetra_obj, "v 0 1 0", "v 0.1 1 0")));
+  EXPECT_EQ(obj.corners(0)[1], Vec3(static_cast<double>(0.1f), 1, 0));  // "f 1 3 2": corner 1 is v3
+}
+
 TEST_F(LoadMeshBadFiles, DegenerateTrianglesAreKeptAndCounted) {
   const Mesh mesh = load_mesh(write("degenerate.off", replace(tetra_off, "4 4 0", "4 5 0") + "3 0 1 1\n"));
   const MeshStats s = validate(mesh);
@@ -390,8 +403,8 @@ TEST_F(LoadMeshBadFiles, NonFiniteCoordinates) {
   expect_rejected(write("nan.off", replace(tetra_off, "1 0 0\n", "nan 0 0\n")), {"non-finite", "nan"});
   expect_rejected(write("inf.off", replace(tetra_off, "0 1 0\n", "0 inf 0\n")), {"non-finite", "inf"});
   expect_rejected(write("overflow.off", replace(tetra_off, "0 1 0\n", "0 1e999 0\n")), {"non-finite"});
-  // Finite as a double but not as assimp's float: caught after loading.
-  expect_rejected(write("float_overflow.off", replace(tetra_off, "0 1 0\n", "0 1e39 0\n")), {"non-finite"});
+  // Finite as a double but not as assimp's float, in a format assimp reads for us: caught after loading.
+  expect_rejected(write("float_overflow.obj", replace(tetra_obj, "v 0 1 0", "v 0 1e39 0")), {"non-finite"});
   expect_rejected(write("nan.obj", replace(tetra_obj, "v 1 0 0", "v NaN 0 0")), {"non-finite"});
   expect_rejected(write("nan.ply", replace(tetra_ply, "1 0 0\n", "nan 0 0\n")), {"non-finite"});
   auto nan_triangles = two_triangles;

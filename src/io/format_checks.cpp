@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -77,8 +79,12 @@ std::optional<double> parse_double(std::string_view token) {
   double value = 0;
   const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
   if (end != token.data() + token.size()) return std::nullopt;
-  // Out of double's range ("1e999"): the reader would turn it into an infinity.
-  if (ec == std::errc::result_out_of_range) return std::numeric_limits<double>::infinity();
+  // Out of double's range: "1e999" overflows (the reader would make it an infinity), "1e-999"
+  // underflows to zero, which is harmless.
+  if (ec == std::errc::result_out_of_range) {
+    const std::string copy(token);
+    return std::strtod(copy.c_str(), nullptr);  // ±HUGE_VAL (= ±inf) on overflow, ~0 on underflow
+  }
   if (ec != std::errc()) return std::nullopt;
   return value;
 }
@@ -446,6 +452,7 @@ CheckResult check_ply(std::string_view bytes, const std::string& name) {
       return data.substr(start, pos - start);
     };
     for (const PlyElement& e : elements) {
+      if (e.properties.empty()) continue;  // no data, however large the count
       for (std::uint64_t k = 0; k < e.count; ++k) {
         for (const PlyProperty& p : e.properties) {
           if (p.count_size == 0) {
@@ -465,7 +472,8 @@ CheckResult check_ply(std::string_view bytes, const std::string& name) {
             if (!token) truncated(e, k);
             const auto value = parse_double(*token);
             if (!value) fail(name, "malformed PLY: list item " + quoted(*token) + " is not a number");
-            items.push_back(static_cast<std::int64_t>(*value));
+            // Clamped before the cast (a cast of NaN or 1e300 is undefined); out of range either way.
+            items.push_back(std::isfinite(*value) && std::abs(*value) < 9e18 ? static_cast<std::int64_t>(*value) : -1);
           }
           check_face(e, p, k, *corners, [&](std::int64_t i) { return items[static_cast<std::size_t>(i)]; });
         }

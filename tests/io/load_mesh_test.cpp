@@ -360,6 +360,8 @@ TEST_F(LoadMeshBadFiles, RelativeObjIndicesAreResolved) {
 TEST_F(LoadMeshBadFiles, OffCoordinatesKeepDoublePrecision) {
   const Mesh mesh = load_mesh(write("precise.off", replace(tetra_off, "0 1 0\n", "0.1 1e39 0.3\n")));
   EXPECT_EQ(mesh.vertices[2], Vec3(0.1, 1e39, 0.3));  // not float(0.1), not float's infinity
+  const Mesh tiny = load_mesh(write("tiny.off", replace(tetra_off, "0 1 0\n", "0 1 1e-999\n")));
+  EXPECT_EQ(tiny.vertices[2], Vec3(0, 1, 0));  // underflow is zero, not an error
   // Formats read by assimp alone go through single precision.
   const Mesh obj = load_mesh(write("single.obj", replace(tetra_obj, "v 0 1 0", "v 0.1 1 0")));
   EXPECT_EQ(obj.corners(0)[1], Vec3(static_cast<double>(0.1f), 1, 0));  // "f 1 3 2": corner 1 is v3

@@ -443,33 +443,52 @@ CheckResult check_ply(std::string_view bytes, const std::string& name) {
   if (encoding == Encoding::ascii) {
     const std::string_view data = bytes.substr(body);
     if (has_binary_bytes(data)) fail(name, "malformed PLY: binary bytes in an ASCII PLY body");
-    std::size_t pos = 0;
+    // One element per line, as every writer does and assimp's line-based reader requires: values
+    // spread over lines make assimp misread the faces (and abort on them).
+    Lines lines(data, false);
+    const std::size_t header_lines = static_cast<std::size_t>(std::count(bytes.begin(), bytes.begin() + body, '\n'));
+    std::vector<std::string_view> tokens;
+    std::size_t used = 0;
     const auto next_token = [&]() -> std::optional<std::string_view> {
-      while (pos < data.size() && is_space(data[pos])) ++pos;
-      const std::size_t start = pos;
-      while (pos < data.size() && !is_space(data[pos])) ++pos;
-      if (pos == start) return std::nullopt;
-      return data.substr(start, pos - start);
+      if (used == tokens.size()) return std::nullopt;
+      return tokens[used++];
+    };
+    // Cheap first: one line per element, so counts beyond the body's lines are a truncation.
+    const std::uint64_t body_lines = static_cast<std::uint64_t>(std::count(data.begin(), data.end(), '\n')) + 1;
+    std::uint64_t declared = 0;
+    for (const PlyElement& e : elements)
+      if (!e.properties.empty()) declared += std::min(e.count, body_lines + 1);
+    if (declared > body_lines)
+      fail(name, "truncated PLY: the header declares more elements (" + std::to_string(declared) +
+                     " or more) than the body has lines (" + std::to_string(body_lines) + ")");
+    const auto short_line = [&](const PlyElement& e, std::uint64_t k) {
+      if (lines.at_end()) truncated(e, k);
+      fail(name, at_line(header_lines + lines.number()) + "malformed PLY: " + e.name + " " + std::to_string(k) +
+                     " has fewer values than the header declares");
     };
     for (const PlyElement& e : elements) {
       if (e.properties.empty()) continue;  // no data, however large the count
       for (std::uint64_t k = 0; k < e.count; ++k) {
+        auto line = lines.next_nonempty();
+        if (!line) truncated(e, k);
+        tokens = std::move(*line);
+        used = 0;
         for (const PlyProperty& p : e.properties) {
           if (p.count_size == 0) {
             const auto token = next_token();
-            if (!token) truncated(e, k);
+            if (!token) short_line(e, k);
             if (!parse_double(*token)) fail(name, "malformed PLY: " + e.name + " value " + quoted(*token) + " is not a number");
             continue;
           }
           const auto count_token = next_token();
-          if (!count_token) truncated(e, k);
+          if (!count_token) short_line(e, k);
           const auto corners = parse_int<std::int64_t>(*count_token);
           if (!corners || *corners < 0)
             fail(name, "malformed PLY: list length " + quoted(*count_token) + " in " + e.name + " " + std::to_string(k));
           std::vector<std::int64_t> items;
           for (std::int64_t i = 0; i < *corners; ++i) {
             const auto token = next_token();
-            if (!token) truncated(e, k);
+            if (!token) short_line(e, k);
             const auto value = parse_double(*token);
             if (!value) fail(name, "malformed PLY: list item " + quoted(*token) + " is not a number");
             // Clamped before the cast (a cast of NaN or 1e300 is undefined); out of range either way.
@@ -477,6 +496,9 @@ CheckResult check_ply(std::string_view bytes, const std::string& name) {
           }
           check_face(e, p, k, *corners, [&](std::int64_t i) { return items[static_cast<std::size_t>(i)]; });
         }
+        if (used != tokens.size())
+          fail(name, at_line(header_lines + lines.number()) + "malformed PLY: " + e.name + " " + std::to_string(k) +
+                         " has more values than the header declares");
       }
     }
   } else {

@@ -450,6 +450,11 @@ TEST_F(LoadMeshBadFiles, MalformedContent) {
   expect_rejected(write("line_face.obj", replace(tetra_obj, "f 2 3 4", "f 2 3")), {"malformed face with 2"});
   expect_rejected(write("empty_face.off", replace(tetra_off, "3 1 2 3", "0")), {"malformed face with 0"});
   expect_rejected(write("empty_face.ply", replace(tetra_ply, "3 1 2 3", "0")), {"0 vertices"});
+  // Legal PLY in principle, but assimp reads ASCII PLY line by line and would misread it.
+  expect_rejected(write("split.ply", replace(tetra_ply, "0 0 0\n1 0 0\n", "0 0\n0\n1 0 0\n")),
+                  {"vertex 0 has fewer values"});
+  expect_rejected(write("joined.ply", replace(tetra_ply, "0 0 0\n1 0 0\n", "0 0 0 1 0 0\n")),
+                  {"vertex 0 has more values"});
   expect_rejected(write("no_end.ply", tetra_ply_header.substr(0, 60)), {"end_header"});
   expect_rejected(write("nested.stl", "solid a\nsolid b\nendsolid b\n"), {"truncated ASCII STL"});
   expect_rejected(write("long.stl", binary_stl(1, two_triangles)), {"malformed binary STL", "extra bytes"});

@@ -361,10 +361,22 @@ std::int64_t read_binary_int(const char* p, std::size_t size, bool is_signed, bo
 }  // namespace
 
 CheckResult check_ply(std::string_view bytes, const std::string& name) {
-  // Header: text lines up to end_header.
-  const std::size_t header_end = bytes.find("end_header");
+  // Header: printable text lines up to a line "end_header".
   if (bytes.substr(0, 3) != "ply" && bytes.substr(0, 3) != "PLY") fail(name, "not a PLY file: no 'ply' magic number");
-  if (header_end == std::string_view::npos) fail(name, "malformed PLY header: no 'end_header'");
+  std::size_t header_end = std::string_view::npos;
+  for (std::size_t at = bytes.find("\nend_header"); at != std::string_view::npos; at = bytes.find("\nend_header", at + 1)) {
+    const std::size_t after = at + 11;
+    if (after == bytes.size() || bytes[after] == '\n' || bytes[after] == '\r' || bytes[after] == ' ') {
+      header_end = at + 1;
+      break;
+    }
+  }
+  if (header_end == std::string_view::npos) fail(name, "malformed PLY header: no 'end_header' line");
+  for (std::size_t i = 0; i < header_end; ++i) {
+    const auto c = static_cast<unsigned char>(bytes[i]);
+    if ((c < 0x20 || c > 0x7e) && c != '\n' && c != '\r' && c != '\t')
+      fail(name, "malformed PLY header: non-text byte " + std::to_string(c) + " at offset " + std::to_string(i));
+  }
   std::size_t body = bytes.find('\n', header_end);
   body = body == std::string_view::npos ? bytes.size() : body + 1;
 

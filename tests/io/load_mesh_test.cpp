@@ -455,6 +455,10 @@ TEST_F(LoadMeshBadFiles, MalformedContent) {
                   {"vertex 0 has fewer values"});
   expect_rejected(write("joined.ply", replace(tetra_ply, "0 0 0\n1 0 0\n", "0 0 0 1 0 0\n")),
                   {"vertex 0 has more values"});
+  // Found by fuzzing: assimp crashed on both (a NUL in a property name; "end_header" inside a name).
+  expect_rejected(write("nul.ply", replace(tetra_ply, "float y", std::string("float \0", 7))), {"non-text byte"});
+  expect_rejected(write("glued.ply", replace(tetra_ply, "vertex_indices\nend_header", "vertex_indiend_header")),
+                  {"no 'end_header' line"});
   expect_rejected(write("no_end.ply", tetra_ply_header.substr(0, 60)), {"end_header"});
   expect_rejected(write("nested.stl", "solid a\nsolid b\nendsolid b\n"), {"truncated ASCII STL"});
   expect_rejected(write("long.stl", binary_stl(1, two_triangles)), {"malformed binary STL", "extra bytes"});

@@ -300,10 +300,18 @@ CheckResult check_stl(std::string_view bytes, const std::string& name) {
       if (open_solids == 0) fail(name, at_line(line) + "malformed ASCII STL: 'endsolid' without 'solid'");
       --open_solids;
     } else if (key == "facet") {
+      // assimp leaks and fails (or misreads) on anything but "facet normal x y z".
+      if (tokens->size() != 5 || (*tokens)[1] != "normal" || !parse_double((*tokens)[2]) ||
+          !parse_double((*tokens)[3]) || !parse_double((*tokens)[4]))
+        fail(name, at_line(line) + (lines.at_end() ? "truncated" : "malformed") +
+                       " ASCII STL: expected 'facet normal <x> <y> <z>'");
+      if (in_facet) fail(name, at_line(line) + "malformed ASCII STL: 'facet' inside a facet");
       in_facet = true;
       facet_vertices = 0;
     } else if (key == "vertex") {
       check_coordinates(*tokens, 1, lines, name, "vertex");
+      if (tokens->size() != 4 || !in_facet)
+        fail(name, at_line(line) + "malformed ASCII STL: expected 'vertex <x> <y> <z>' inside a facet");
       ++facet_vertices;
     } else if (key == "endfacet") {
       if (!in_facet || facet_vertices != 3)

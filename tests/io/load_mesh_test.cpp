@@ -315,6 +315,9 @@ const std::string tetra_ply_header =
     "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
 const std::string tetra_ply = tetra_ply_header + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
 
+const std::string ascii_stl =
+    "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+
 std::string replace(std::string text, const std::string& from, const std::string& to) {
   const auto at = text.find(from);
   EXPECT_NE(at, std::string::npos) << from;
@@ -388,8 +391,7 @@ TEST_F(LoadMeshBadFiles, TruncatedFiles) {
   std::string cut = binary_stl(2, two_triangles);
   cut.resize(cut.size() - 20);
   expect_rejected(write("cut.stl", cut), {"truncated binary STL"});
-  const std::string ascii = "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
-                            "endloop\nendfacet\nendsolid t\n";
+  const std::string& ascii = ascii_stl;
   expect_rejected(write("cut_ascii.stl", ascii.substr(0, ascii.find("vertex 0 1 0"))), {"truncated ASCII STL"});
   expect_rejected(write("cut_line_ascii.stl", ascii.substr(0, ascii.find("1 0\n"))), {"truncated"});
   expect_rejected(write("cut_faces.off", tetra_off.substr(0, tetra_off.size() - 16)), {"truncated OFF"});
@@ -460,6 +462,10 @@ TEST_F(LoadMeshBadFiles, MalformedContent) {
   expect_rejected(write("glued.ply", replace(tetra_ply, "vertex_indices\nend_header", "vertex_indiend_header")),
                   {"no 'end_header' line"});
   expect_rejected(write("no_end.ply", tetra_ply_header.substr(0, 60)), {"end_header"});
+  // Found by fuzzing: assimp fails on a bad normal and leaks memory doing so.
+  expect_rejected(write("normal.stl", replace(ascii_stl, "normal 0 0 1", "normal 0 0 #1")), {"facet normal"});
+  expect_rejected(write("nor.stl", replace(ascii_stl, "normal 0 0 1", "nor-1mal 0 0 1")), {"facet normal"});
+  expect_rejected(write("extra.stl", replace(ascii_stl, "vertex 1 0 0", "vertex 1 0 0 0")), {"vertex <x> <y> <z>"});
   expect_rejected(write("nested.stl", "solid a\nsolid b\nendsolid b\n"), {"truncated ASCII STL"});
   expect_rejected(write("long.stl", binary_stl(1, two_triangles)), {"malformed binary STL", "extra bytes"});
   expect_rejected(write("points.ply", replace(tetra_ply, "element face 4", "element face 0")), {"no triangles"});

@@ -144,40 +144,82 @@ const char* format_name(Format format) {
 // ------------------------------------------------------------------------------------------ OBJ
 CheckResult check_obj(std::string_view text, const std::string& name) {
   check_text(text, name, "OBJ");
+  // assimp refuses files under 16 bytes; none of them can hold a triangle anyway.
+  if (text.size() < 16) fail(name, "no triangles: " + std::to_string(text.size()) + " bytes cannot hold a face");
   Lines lines(text, true);
-  std::uint64_t vertices = 0;
+  // Positions, texture coordinates, normals: what the file has so far (relative indices count
+  // back from there) and the largest absolute index used, checked at the end.
+  struct Kind {
+    const char* what;
+    const char* plural;
+    std::int64_t count = 0;
+    std::int64_t max_index = 0;
+    std::size_t max_line = 0;
+  };
+  Kind kinds[3] = {{"vertex", "vertices"}, {"texture coordinate", "texture coordinates"}, {"normal", "normals"}};
   std::uint64_t triangles = 0;
-  std::int64_t max_index = 0;  // largest positive index, checked once all vertices are known
-  std::size_t max_index_line = 0;
+  const auto check_index = [&](std::string_view token, Kind& kind, std::size_t line) {
+    const auto index = parse_int<std::int64_t>(token);
+    if (!index) fail(name, at_line(line) + "malformed " + kind.what + " index " + quoted(token));
+    if (*index == 0) fail(name, at_line(line) + kind.what + " index 0 is out of range (OBJ indices start at 1)");
+    if (*index < -kind.count)
+      fail(name, at_line(line) + "relative " + kind.what + " index " + std::to_string(*index) +
+                     " is out of range: only " + std::to_string(kind.count) + " " + kind.plural + " precede it");
+    if (*index > kind.max_index) {
+      kind.max_index = *index;
+      kind.max_line = line;
+    }
+  };
+  // A corner "v", "v/vt", "v//vn" or "v/vt/vn"; lines and points allow no normal.
+  const auto check_corner = [&](std::string_view corner, std::size_t line, bool allow_normal) {
+    std::size_t part = 0;
+    while (true) {
+      const std::size_t slash = corner.find('/');
+      const std::string_view token = corner.substr(0, slash);
+      if (part == 0 || !token.empty()) check_index(token, kinds[part], line);
+      if (slash == std::string_view::npos) break;
+      corner.remove_prefix(slash + 1);
+      if (++part > (allow_normal ? 2u : 1u)) fail(name, at_line(line) + "malformed vertex reference: too many '/'");
+    }
+  };
+  const auto check_numbers = [&](const std::vector<std::string_view>& tokens, std::size_t min, std::size_t max,
+                                 std::size_t line) {
+    const std::size_t n = tokens.size() - 1;
+    if (n < min || n > max)
+      fail(name, at_line(line) + "malformed '" + std::string(tokens[0]) + "' statement: " + std::to_string(n) +
+                     " values");
+    for (std::size_t i = 1; i <= n; ++i)
+      if (!parse_double(tokens[i]))
+        fail(name, at_line(line) + "malformed '" + std::string(tokens[0]) + "' statement: " + quoted(tokens[i]) +
+                       " is not a number");
+  };
   while (auto tokens = lines.next_nonempty()) {
     const std::string_view key = (*tokens)[0];
     const std::size_t line = lines.number();
     if (key == "v") {
       check_coordinates(*tokens, 1, lines, name, "vertex");
-      ++vertices;
+      ++kinds[0].count;
+    } else if (key == "vt") {
+      check_numbers(*tokens, 1, 3, line);
+      ++kinds[1].count;
+    } else if (key == "vn") {
+      check_numbers(*tokens, 3, 3, line);
+      ++kinds[2].count;
     } else if (key == "f") {
       const std::size_t corners = tokens->size() - 1;
       if (corners < 3)
         fail(name, at_line(line) + "malformed face with " + std::to_string(corners) + " vertices (need at least 3)");
       triangles += corners - 2;
-      for (std::size_t i = 1; i < tokens->size(); ++i) {
-        const std::string_view corner = (*tokens)[i];
-        const auto index = parse_int<std::int64_t>(corner.substr(0, corner.find('/')));
-        if (!index) fail(name, at_line(line) + "malformed face: vertex reference " + quoted(corner) + " is not an index");
-        if (*index == 0) fail(name, at_line(line) + "face index 0 is out of range (OBJ indices start at 1)");
-        if (*index < 0 && static_cast<std::uint64_t>(-*index) > vertices)
-          fail(name, at_line(line) + "relative face index " + std::to_string(*index) + " is out of range: only " +
-                         std::to_string(vertices) + " vertices precede it");
-        if (*index > max_index) {
-          max_index = *index;
-          max_index_line = line;
-        }
-      }
+      for (std::size_t i = 1; i < tokens->size(); ++i) check_corner((*tokens)[i], line, true);
+    } else if (key == "l" || key == "p") {
+      if (tokens->size() < (key == "l" ? 3u : 2u)) fail(name, at_line(line) + "malformed '" + std::string(key) + "' statement");
+      for (std::size_t i = 1; i < tokens->size(); ++i) check_corner((*tokens)[i], line, false);
     }
   }
-  if (static_cast<std::uint64_t>(max_index) > vertices)
-    fail(name, at_line(max_index_line) + "face index " + std::to_string(max_index) + " is out of range: the file has " +
-                   std::to_string(vertices) + " vertices");
+  for (const Kind& kind : kinds)
+    if (kind.max_index > kind.count)
+      fail(name, at_line(kind.max_line) + kind.what + " index " + std::to_string(kind.max_index) +
+                     " is out of range: the file has " + std::to_string(kind.count) + " " + kind.plural);
   CheckResult result = welded();
   result.expected_triangles = triangles;
   return result;

@@ -423,6 +423,11 @@ TEST_F(LoadMeshBadFiles, IndicesOutOfRange) {
   expect_rejected(write("big.obj", replace(tetra_obj, "f 2 3 4", "f 2 3 9")), {"out of range", "9", "4 vertices"});
   expect_rejected(write("zero.obj", replace(tetra_obj, "f 2 3 4", "f 2 3 0")), {"out of range", "index 0"});
   expect_rejected(write("negative.obj", replace(tetra_obj, "f 2 3 4", "f 2 3 -5")), {"out of range", "-5"});
+  expect_rejected(write("normal.obj", tetra_obj + "vn 0 0 1\nf 1//1 2//2 3//1\n"), {"normal index 2 is out of range"});
+  expect_rejected(write("texture.obj", tetra_obj + "vt 0 0\nf 1/-2 2/1 3/1\n"), {"texture coordinate index -2"});
+  expect_rejected(write("line.obj", tetra_obj + "l 1 5\n"), {"vertex index 5 is out of range"});
+  expect_rejected(write("huge_relative.obj", replace(tetra_obj, "f 2 3 4", "f 2 3 -9223372036854775808")),
+                  {"out of range"});
   expect_rejected(write("before.obj", "v 0 0 0\nf 1 2 3\nv 1 0 0\n"), {"out of range"});
   expect_rejected(write("big.off", replace(tetra_off, "3 1 2 3", "3 1 2 4")), {"out of range", "4"});
   expect_rejected(write("negative.off", replace(tetra_off, "3 1 2 3", "3 1 2 -1")), {"out of range", "-1"});
@@ -449,6 +454,9 @@ TEST_F(LoadMeshBadFiles, MalformedContent) {
   expect_rejected(write("word.obj", replace(tetra_obj, "v 1 0 0", "v one 0 0")), {"not a number"});
   expect_rejected(write("word.off", replace(tetra_off, "1 0 0\n", "1 zero 0\n")), {"not a number"});
   expect_rejected(write("short.obj", replace(tetra_obj, "v 1 0 0", "v 1 0")), {"expected 3 coordinates"});
+  expect_rejected(write("normal3.obj", tetra_obj + "vn 0 1\n"), {"malformed 'vn' statement"});
+  expect_rejected(write("slashes.obj", replace(tetra_obj, "f 2 3 4", "f 2 3 4/1/1/1")), {"too many '/'"});
+  expect_rejected(write("tiny.obj", "v 0 0 0\nf 1\n"), {"no triangles"});
   expect_rejected(write("line_face.obj", replace(tetra_obj, "f 2 3 4", "f 2 3")), {"malformed face with 2"});
   expect_rejected(write("empty_face.off", replace(tetra_off, "3 1 2 3", "0")), {"malformed face with 0"});
   expect_rejected(write("empty_face.ply", replace(tetra_ply, "3 1 2 3", "0")), {"0 vertices"});

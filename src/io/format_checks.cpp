@@ -171,16 +171,31 @@ CheckResult check_obj(std::string_view text, const std::string& name) {
     }
   };
   // A corner "v", "v/vt", "v//vn" or "v/vt/vn"; lines and points allow no normal.
+  // Returns the corner's form (which of v, vt, vn it has); a face must use one form throughout.
   const auto check_corner = [&](std::string_view corner, std::size_t line, bool allow_normal) {
+    const std::string_view whole = corner;
     std::size_t part = 0;
+    unsigned form = 0;
     while (true) {
       const std::size_t slash = corner.find('/');
       const std::string_view token = corner.substr(0, slash);
-      if (part == 0 || !token.empty()) check_index(token, kinds[part], line);
+      if (part == 0 || !token.empty()) {
+        check_index(token, kinds[part], line);
+        form |= 1u << part;
+      }
       if (slash == std::string_view::npos) break;
       corner.remove_prefix(slash + 1);
       if (++part > (allow_normal ? 2u : 1u)) fail(name, at_line(line) + "malformed vertex reference: too many '/'");
     }
+    if (part != 0 && form == 1u) fail(name, at_line(line) + "malformed vertex reference " + quoted(whole));
+    return form;
+  };
+  const auto check_corners = [&](const std::vector<std::string_view>& tokens, std::size_t line, bool allow_normal) {
+    const unsigned form = check_corner(tokens[1], line, allow_normal);
+    for (std::size_t i = 2; i < tokens.size(); ++i)
+      if (check_corner(tokens[i], line, allow_normal) != form)
+        fail(name, at_line(line) + "malformed '" + std::string(tokens[0]) +
+                       "' statement: its vertex references mix forms (v, v/vt, v//vn, v/vt/vn)");
   };
   const auto check_numbers = [&](const std::vector<std::string_view>& tokens, std::size_t min, std::size_t max,
                                  std::size_t line) {
@@ -210,10 +225,13 @@ CheckResult check_obj(std::string_view text, const std::string& name) {
       if (corners < 3)
         fail(name, at_line(line) + "malformed face with " + std::to_string(corners) + " vertices (need at least 3)");
       triangles += corners - 2;
-      for (std::size_t i = 1; i < tokens->size(); ++i) check_corner((*tokens)[i], line, true);
+      check_corners(*tokens, line, true);
     } else if (key == "l" || key == "p") {
       if (tokens->size() < (key == "l" ? 3u : 2u)) fail(name, at_line(line) + "malformed '" + std::string(key) + "' statement");
-      for (std::size_t i = 1; i < tokens->size(); ++i) check_corner((*tokens)[i], line, false);
+      check_corners(*tokens, line, false);
+    } else if (key[0] == 'f') {
+      // assimp takes any statement starting with 'f' for a face.
+      fail(name, at_line(line) + "unknown statement " + quoted(key));
     }
   }
   for (const Kind& kind : kinds)

@@ -456,6 +456,9 @@ TEST_F(LoadMeshBadFiles, MalformedContent) {
   expect_rejected(write("short.obj", replace(tetra_obj, "v 1 0 0", "v 1 0")), {"expected 3 coordinates"});
   expect_rejected(write("normal3.obj", tetra_obj + "vn 0 1\n"), {"malformed 'vn' statement"});
   expect_rejected(write("slashes.obj", replace(tetra_obj, "f 2 3 4", "f 2 3 4/1/1/1")), {"too many '/'"});
+  expect_rejected(write("mixed.obj", tetra_obj + "vt 0 0\nf 1/1 2/1 3\n"), {"mix forms"});
+  expect_rejected(write("dangling.obj", replace(tetra_obj, "f 2 3 4", "f 2/ 3/ 4/")), {"malformed vertex reference"});
+  expect_rejected(write("facet.obj", replace(tetra_obj, "f 2 3 4", "facet 2 3 4")), {"unknown statement"});
   expect_rejected(write("tiny.obj", "v 0 0 0\nf 1\n"), {"no triangles"});
   expect_rejected(write("line_face.obj", replace(tetra_obj, "f 2 3 4", "f 2 3")), {"malformed face with 2"});
   expect_rejected(write("empty_face.off", replace(tetra_off, "3 1 2 3", "0")), {"malformed face with 0"});

@@ -215,7 +215,7 @@ CheckResult check_obj(std::string_view text, const std::string& name) {
       check_coordinates(*tokens, 1, lines, name, "vertex");
       ++kinds[0].count;
     } else if (key == "vt") {
-      check_numbers(*tokens, 1, 3, line);
+      check_numbers(*tokens, 2, 3, line);  // assimp rejects one-component texture coordinates
       ++kinds[1].count;
     } else if (key == "vn") {
       check_numbers(*tokens, 3, 3, line);
@@ -234,6 +234,8 @@ CheckResult check_obj(std::string_view text, const std::string& name) {
       fail(name, at_line(line) + "unknown statement " + quoted(key));
     }
   }
+  // Decided here, before assimp: it misreports some face-less files (index errors).
+  if (triangles == 0) fail(name, "no triangles: the file has no faces (only points, lines or nothing)");
   for (const Kind& kind : kinds)
     if (kind.max_index > kind.count)
       fail(name, at_line(kind.max_line) + kind.what + " index " + std::to_string(kind.max_index) +
@@ -488,6 +490,8 @@ CheckResult check_ply(std::string_view bytes, const std::string& name) {
       }
       elements.back().properties.push_back(std::move(p));
     }
+    // Other lines are skipped, as assimp does: real files carry free-text lines (assimp's own
+    // PLY/Wuson.ply has a "Created by Blender" line without "comment").
   }
   if (!have_format) fail(name, "malformed PLY header: no 'format' line");
 
@@ -500,6 +504,23 @@ CheckResult check_ply(std::string_view bytes, const std::string& name) {
   }
   // A point cloud is sound PLY but not a mesh: say so before judging the rest of the body.
   if (face_count == 0) fail(name, "no triangles: the PLY file has no faces (a point cloud?)");
+  // What assimp needs to read a mesh, or it fails, misreads or crashes.
+  bool vertex_seen = false;
+  for (const PlyElement& e : elements) {
+    const auto has = [&e](std::string_view property, bool list) {
+      return std::any_of(e.properties.begin(), e.properties.end(),
+                         [&](const PlyProperty& p) { return p.name == property && (p.count_size != 0) == list; });
+    };
+    if (e.name == "vertex") {
+      if (!has("x", false) || !has("y", false) || !has("z", false))
+        fail(name, "malformed PLY header: the vertex element lacks an x, y or z property");
+      vertex_seen = true;
+    } else if (e.name == "face") {
+      if (!vertex_seen) fail(name, "malformed PLY header: the face element comes before the vertex element");
+      if (!has("vertex_indices", true) && !has("vertex_index", true))
+        fail(name, "no triangles: the face element has no 'vertex_indices' list");
+    }
+  }
   // Face lists are the triangles: they need 3+ corners (assimp aborts on empty ones) and valid indices.
   const auto check_face = [&](const PlyElement& e, const PlyProperty& p, std::uint64_t instance, std::int64_t corners,
                               auto&& index_at) {

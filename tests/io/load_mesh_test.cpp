@@ -459,6 +459,11 @@ TEST_F(LoadMeshBadFiles, MalformedContent) {
   expect_rejected(write("mixed.obj", tetra_obj + "vt 0 0\nf 1/1 2/1 3\n"), {"mix forms"});
   expect_rejected(write("dangling.obj", replace(tetra_obj, "f 2 3 4", "f 2/ 3/ 4/")), {"malformed vertex reference"});
   expect_rejected(write("facet.obj", replace(tetra_obj, "f 2 3 4", "facet 2 3 4")), {"unknown statement"});
+  expect_rejected(write("vt1.obj", tetra_obj + "vt 0\n"), {"malformed 'vt' statement"});
+  expect_rejected(write("nofaces.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n"), {"no triangles"});
+  expect_rejected(write("keyword.ply", replace(tetra_ply, "property float x", "prperty float x")),
+                  {"lacks an x, y or z"});
+  expect_rejected(write("indices.ply", replace(tetra_ply, "vertex_indices", "vertex_indi")), {"no 'vertex_indices'"});
   expect_rejected(write("tiny.obj", "v 0 0 0\nf 1\n"), {"no triangles"});
   expect_rejected(write("line_face.obj", replace(tetra_obj, "f 2 3 4", "f 2 3")), {"malformed face with 2"});
   expect_rejected(write("empty_face.off", replace(tetra_off, "3 1 2 3", "0")), {"malformed face with 0"});

@@ -229,8 +229,8 @@ CheckResult check_obj(std::string_view text, const std::string& name) {
     } else if (key == "l" || key == "p") {
       if (tokens->size() < (key == "l" ? 3u : 2u)) fail(name, at_line(line) + "malformed '" + std::string(key) + "' statement");
       check_corners(*tokens, line, false);
-    } else if (key[0] == 'f') {
-      // assimp takes any statement starting with 'f' for a face.
+    } else if (key[0] == 'f' || key[0] == 'l' || key[0] == 'p') {
+      // assimp takes any statement starting with 'f', 'l' or 'p' for a face, line or point.
       fail(name, at_line(line) + "unknown statement " + quoted(key));
     }
   }
@@ -328,7 +328,10 @@ CheckResult check_stl(std::string_view bytes, const std::string& name) {
     std::uint32_t n = 0;
     std::memcpy(&n, bytes.data() + 80, 4);  // little-endian on every platform we build for
     declared = n;
-    if (header + facet * n == bytes.size()) return welded();  // a well-formed binary STL
+    if (header + facet * n == bytes.size()) {  // a well-formed binary STL
+      if (n == 0) fail(name, "no triangles: the binary STL declares 0 triangles");
+      return welded();
+    }
   }
   std::size_t start = 0;
   while (start < bytes.size() && is_space(bytes[start])) ++start;
@@ -351,6 +354,7 @@ CheckResult check_stl(std::string_view bytes, const std::string& name) {
   std::size_t open_solids = 0;
   std::size_t solids = 0;
   std::size_t facet_vertices = 0;
+  std::size_t facets = 0;
   bool in_facet = false;
   while (auto tokens = lines.next_nonempty()) {
     const std::string_view key = (*tokens)[0];
@@ -369,6 +373,7 @@ CheckResult check_stl(std::string_view bytes, const std::string& name) {
                        " ASCII STL: expected 'facet normal <x> <y> <z>'");
       if (in_facet) fail(name, at_line(line) + "malformed ASCII STL: 'facet' inside a facet");
       in_facet = true;
+      ++facets;
       facet_vertices = 0;
     } else if (key == "vertex") {
       check_coordinates(*tokens, 1, lines, name, "vertex");
@@ -385,6 +390,8 @@ CheckResult check_stl(std::string_view bytes, const std::string& name) {
   if (in_facet || open_solids != 0)
     fail(name, "truncated ASCII STL: the file ends inside a " + std::string(in_facet ? "facet" : "solid") +
                    " (no closing 'endsolid')");
+  if (solids == 0) fail(name, "malformed ASCII STL: no 'solid' statement");
+  if (facets == 0) fail(name, "no triangles: the ASCII STL has no facets");
   return welded();
 }
 

@@ -464,6 +464,10 @@ TEST_F(LoadMeshBadFiles, MalformedContent) {
   expect_rejected(write("keyword.ply", replace(tetra_ply, "property float x", "prperty float x")),
                   {"lacks an x, y or z"});
   expect_rejected(write("indices.ply", replace(tetra_ply, "vertex_indices", "vertex_indi")), {"no 'vertex_indices'"});
+  expect_rejected(write("property.obj", tetra_obj + "property list uchar int x\n"), {"unknown statement 'property'"});
+  expect_rejected(write("solid2.stl", "solid2"), {"no 'solid' statement"});
+  expect_rejected(write("nofacets.stl", "solid a\nendsolid a\n"), {"no triangles"});
+  expect_rejected(write("zero.stl", binary_stl(0, {})), {"no triangles"});
   expect_rejected(write("tiny.obj", "v 0 0 0\nf 1\n"), {"no triangles"});
   expect_rejected(write("line_face.obj", replace(tetra_obj, "f 2 3 4", "f 2 3")), {"malformed face with 2"});
   expect_rejected(write("empty_face.off", replace(tetra_off, "3 1 2 3", "0")), {"malformed face with 0"});

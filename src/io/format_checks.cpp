@@ -213,6 +213,9 @@ CheckResult check_obj(std::string_view text, const std::string& name) {
     const std::size_t line = lines.number();
     if (key == "v") {
       check_coordinates(*tokens, 1, lines, name, "vertex");
+      // A fourth value is a weight that assimp divides by (x/w, y/w, z/w).
+      if (tokens->size() == 5 && (!parse_double((*tokens)[4]) || *parse_double((*tokens)[4]) == 0.0))
+        fail(name, at_line(line) + "malformed vertex: weight " + quoted((*tokens)[4]) + " is not a non-zero number");
       ++kinds[0].count;
     } else if (key == "vt") {
       check_numbers(*tokens, 2, 3, line);  // assimp rejects one-component texture coordinates

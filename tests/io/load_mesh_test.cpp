@@ -468,6 +468,7 @@ TEST_F(LoadMeshBadFiles, MalformedContent) {
   expect_rejected(write("solid2.stl", "solid2"), {"no 'solid' statement"});
   expect_rejected(write("nofacets.stl", "solid a\nendsolid a\n"), {"no triangles"});
   expect_rejected(write("zero.stl", binary_stl(0, {})), {"no triangles"});
+  expect_rejected(write("weight.obj", replace(tetra_obj, "v 1 0 0", "v 1 0 0 0")), {"weight '0'"});
   expect_rejected(write("tiny.obj", "v 0 0 0\nf 1\n"), {"no triangles"});
   expect_rejected(write("line_face.obj", replace(tetra_obj, "f 2 3 4", "f 2 3")), {"malformed face with 2"});
   expect_rejected(write("empty_face.off", replace(tetra_off, "3 1 2 3", "0")), {"malformed face with 0"});

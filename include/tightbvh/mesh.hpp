@@ -37,9 +37,10 @@ struct MeshStats {
 };
 
 // Loads OBJ, OFF, STL or PLY (by extension; files without one are recognised by content) through
-// assimp: polygons triangulated, sub-meshes merged, points and lines dropped. Coordinates are
-// stored as double but pass through assimp's single precision. OBJ and STL corners that assimp
-// duplicates are welded back (exactly equal positions only); OFF and PLY keep the file's vertices.
+// assimp: polygons triangulated, sub-meshes merged, points and lines dropped. OFF coordinates
+// keep the file's double precision; OBJ, STL and PLY ones pass through assimp's single precision.
+// OBJ and STL corners that assimp duplicates are welded back (exactly equal positions only); OFF
+// and PLY keep the file's vertices (OFF also their order).
 // Throws InputError "<path>: <problem>" for a missing file, a directory, an unknown format, an
 // empty, malformed or truncated file, non-finite coordinates, out-of-range indices or no
 // triangles. The result has passed validate(); degenerate triangles are kept.

@@ -1,6 +1,7 @@
 // load_mesh on the shipped meshes, on the public corpus (meshes/fetch-corpus) and on broken files
 // generated here. Expected counts come from small independent counters that read the file text.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cstring>
@@ -94,6 +95,13 @@ void expect_rejected(const fs::path& path, const std::vector<std::string>& fragm
       EXPECT_NE(message.find(fragment), std::string::npos) << "message lacks '" << fragment << "': " << message;
     EXPECT_EQ(message.find('\n'), std::string::npos) << "message is not one line: " << message;
   }
+}
+
+// The process's peak resident memory so far, in MiB (a high-water mark: it never decreases).
+double peak_rss_mib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
 // ------------------------------------------------------------------------------------ shipped meshes
@@ -244,6 +252,15 @@ TEST(LoadMeshAssimpCorpus, ValidModelsLoadWithIndependentCounts) {
   for (const char* key : {"OBJ/WusonOBJ.obj", "PLY/Wuson.ply", "STL/Wuson.stl"})
     EXPECT_EQ(counts(key).second, counts("OFF/Wuson.off").second) << key;
   EXPECT_EQ(counts("STL/Spider_ascii.stl"), counts("STL/Spider_binary.stl"));
+}
+
+// The header claims 353535235358 vertices: assimp alone takes ~16 GB and 50 s, then aborts.
+TEST(LoadMeshAssimpCorpus, OutOfMemoryOffIsRejectedCheaply) {
+  const fs::path dir = assimp_corpus();
+  if (dir.empty()) GTEST_SKIP() << "corpus not fetched: run meshes/fetch-corpus";
+  const double before = peak_rss_mib();
+  expect_rejected(dir / "invalid" / "OutOfMemory.off", {"truncated OFF", "353535235358 vertices"});
+  EXPECT_LT(peak_rss_mib() - before, 64.0);
 }
 
 TEST(LoadMeshAssimpCorpus, BrokenAndNonMeshFilesAreRejected) {
@@ -398,9 +415,14 @@ TEST_F(LoadMeshBadFiles, TruncatedFiles) {
   expect_rejected(write("cut_vertices.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n"), {"truncated OFF", "after 2 vertices"});
   expect_rejected(write("cut.ply", tetra_ply.substr(0, tetra_ply.size() - 10)), {"truncated PLY"});
   // Counts far beyond the file: rejected without allocating for them.
+  const double before = peak_rss_mib();
   expect_rejected(write("huge.off", replace(tetra_off, "4 4 0", "4000000000000 4 0")), {"truncated OFF"});
   expect_rejected(write("huge.ply", replace(tetra_ply, "vertex 4", "vertex 4000000000")), {"truncated PLY"});
   expect_rejected(write("huge.stl", binary_stl(0xffffffffu, two_triangles)), {"truncated binary STL"});
+  std::string binary_ply = replace(tetra_ply_header, "ascii", "binary_little_endian");
+  binary_ply = replace(binary_ply, "vertex 4", "vertex 4000000000") + std::string(64, '\0');
+  expect_rejected(write("huge_binary.ply", binary_ply), {"truncated PLY"});
+  EXPECT_LT(peak_rss_mib() - before, 64.0);
 }
 
 TEST_F(LoadMeshBadFiles, NonFiniteCoordinates) {

@@ -143,21 +143,41 @@ AxisBox exact_box(const HullGeometry& g, ExactScratch& s, BoptScratch& bs) {
     best_n2 = n2;
     have_family_best = true;
   };
+  // Lower bound of the volume on [t - half, t + half] from the widths w at t (see above).
+  const auto lower_bound = [&](const double* w, double m_len, double half) {
+    const double m_min = m_len - half;
+    if (!(m_min > 0.0)) return 0.0;
+    const double speed[3] = {1.0, 1.0 / m_min, 1.0 + 1.0 / m_min};
+    double bound = 1.0;
+    for (int a = 0; a < 3; ++a) bound *= std::max(0.0, w[a] - 2.0 * radius * speed[a] * half);
+    return bound;
+  };
+  // Golden-section search on [lo, hi], stopped early as soon as the bound over the remaining
+  // bracket (from its best interior point) reaches the best volume so far.
   const auto golden = [&](std::size_t i, std::size_t j, double lo, double hi) {
     ++s.stats.refined;
     constexpr double r = 0.6180339887498949;
+    double w1[3], w2[3], m1 = 0.0, m2 = 0.0;
     double x1 = hi - r * (hi - lo), x2 = lo + r * (hi - lo);
-    double f1 = ev.at(i, j, x1), f2 = ev.at(i, j, x2);
+    double f1 = ev.at(i, j, x1, w1, &m1), f2 = ev.at(i, j, x2, w2, &m2);
     for (int it = 0; it < kGolden && hi - lo > 1e-13; ++it) {
       if (f1 <= f2) {
-        hi = x2, x2 = x1, f2 = f1;
+        hi = x2, x2 = x1, f2 = f1, m2 = m1;
+        std::copy(w1, w1 + 3, w2);
         x1 = hi - r * (hi - lo);
-        f1 = ev.at(i, j, x1);
+        f1 = ev.at(i, j, x1, w1, &m1);
       } else {
-        lo = x1, x1 = x2, f1 = f2;
+        lo = x1, x1 = x2, f1 = f2, m1 = m2;
+        std::copy(w2, w2 + 3, w1);
         x2 = lo + r * (hi - lo);
-        f2 = ev.at(i, j, x2);
+        f2 = ev.at(i, j, x2, w2, &m2);
       }
+      record(i, j, x1, f1);
+      record(i, j, x2, f2);
+      const bool first = f1 <= f2;
+      const double x = first ? x1 : x2;
+      const double reach = std::max(x - lo, hi - x);
+      if (lower_bound(first ? w1 : w2, first ? m1 : m2, reach) >= best_volume) break;
     }
     record(i, j, x1, f1);
     record(i, j, x2, f2);
@@ -176,17 +196,13 @@ AxisBox exact_box(const HullGeometry& g, ExactScratch& s, BoptScratch& bs) {
       double w[3], m_len = 0.0;
       const double v = ev.at(i, j, mid, w, &m_len);
       record(i, j, mid, v);
-      const double m_min = m_len - half;
-      if (!(v < kInf) || !(m_min > 0.0)) {
+      if (!(v < kInf) || !(m_len - half > 0.0)) {
         // Close to the singular direction n1 = +-d2 nothing can be bounded; split down to
         // 1e-4 rad, the rest is parameterised well by the ordered pair (j, i).
         if (half > 1e-4) stack.emplace_back(lo, mid), stack.emplace_back(mid, hi);
         continue;
       }
-      const double speed[3] = {1.0, 1.0 / m_min, 1.0 + 1.0 / m_min};
-      double bound = 1.0;
-      for (int a = 0; a < 3; ++a) bound *= std::max(0.0, w[a] - 2.0 * radius * speed[a] * half);
-      if (bound >= best_volume) continue;
+      if (lower_bound(w, m_len, half) >= best_volume) continue;
       if (2.0 * half <= kStep) {
         golden(i, j, lo, hi);
         continue;

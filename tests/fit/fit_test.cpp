@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <thread>
 
 #include "test_util.hpp"
 #include "tightbvh/hull.hpp"
@@ -275,6 +276,28 @@ TEST(Fit, NearlyDegenerateAndLatticeInputs) {
     }
   }
   EXPECT_NEAR(volume_of(lattice, FitMethod::exact), 4.0 * 1.5 * 0.5, 1e-12);
+}
+
+TEST(Fit, ConcurrentWorkspacesGiveTheSameBoxes) {
+  // The builder fits nodes in parallel, one workspace per thread (qhull's reentrant API).
+  auto sets = random_sets();
+  std::vector<std::vector<double>> expected(sets.size());
+  for (std::size_t i = 0; i < sets.size(); ++i)
+    for (FitMethod m : {FitMethod::diameter, FitMethod::approx, FitMethod::exact})
+      expected[i].push_back(volume_of(sets[i], m));
+  std::vector<int> mismatches(4, 0);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&, t] {
+      FitWorkspace ws;
+      for (std::size_t i = 0; i < sets.size(); ++i) {
+        int k = 0;
+        for (FitMethod m : {FitMethod::diameter, FitMethod::approx, FitMethod::exact})
+          mismatches[t] += fit_points(sets[i], {.method = m}, ws).volume() != expected[i][k++];
+      }
+    });
+  for (auto& th : threads) th.join();
+  for (int t = 0; t < 4; ++t) EXPECT_EQ(mismatches[t], 0) << "thread " << t;
 }
 
 TEST(Fit, RejectsNonFinite) {

@@ -1,0 +1,73 @@
+// GridSearchMinVolBbx, Barequet & Har-Peled Section 6.4 (Fig. 6.3), with the local
+// improvement step of Section 6.5 (the "(Improved)" rows of Tables 6.1 and 6.2).
+#include <limits>
+#include <mutex>
+#include <numeric>
+
+#include "fitters.hpp"
+#include "tightbvh/mesh.hpp"
+
+namespace tightbvh::fit_detail {
+
+constexpr int kMaxGrid = 64;
+
+const std::vector<std::array<int, 3>>& primitive_grid(int k) {
+  if (k < 1 || k > kMaxGrid) throw InputError("fit: grid radius k must be in [1, 64]");
+  static std::array<std::once_flag, kMaxGrid + 1> once;
+  static std::array<std::vector<std::array<int, 3>>, kMaxGrid + 1> tables;
+  std::call_once(once[k], [k] {
+    auto& t = tables[k];
+    for (int i = -k; i <= k; ++i)
+      for (int j = -k; j <= k; ++j)
+        for (int l = -k; l <= k; ++l) {
+          // One of v, -v: the first non-zero coordinate is positive.
+          const int first = i != 0 ? i : (j != 0 ? j : l);
+          if (first <= 0) continue;
+          if (std::gcd(std::gcd(std::abs(i), std::abs(j)), std::abs(l)) != 1) continue;
+          t.push_back({i, j, l});
+        }
+  });
+  return tables[k];
+}
+
+AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool improve_step, BoptScratch& scratch) {
+  // Grid(B*(S)) is spanned by the box's edge vectors b_j = extent_j * axis_j.
+  const Vec3 extent = bstar.hi - bstar.lo;
+  Mat3 basis;
+  for (int j = 0; j < 3; ++j) basis.col(j) = extent[j] * bstar.axes.col(j);
+  // Keep the few best boxes: the local improvement is run from each of them (it converges to
+  // local minima, Section 6.5, so a second or third start often lands in a better one).
+  constexpr int kStarts = 4;
+  std::array<AxisBox, kStarts> top;
+  std::array<double, kStarts> top_volume;
+  top.fill(bstar);
+  top_volume.fill(std::numeric_limits<double>::infinity());
+  top_volume[0] = bstar.volume();
+  for (const auto& c : primitive_grid(k)) {
+    const Vec3 v = basis * Vec3(c[0], c[1], c[2]);
+    if (!(v.squaredNorm() > 0.0)) continue;
+    const AxisBox box = bopt(g, v, scratch);
+    double volume = box.volume();
+    if (!(volume < top_volume[kStarts - 1])) continue;
+    // Insert into the sorted list of the best boxes.
+    int at = kStarts - 1;
+    while (at > 0 && volume < top_volume[at - 1]) {
+      top_volume[at] = top_volume[at - 1];
+      top[at] = top[at - 1];
+      --at;
+    }
+    top_volume[at] = volume;
+    top[at] = box;
+  }
+  if (!improve_step) return top[0];
+  AxisBox best = top[0];
+  double best_volume = top_volume[0];
+  for (int i = 0; i < kStarts; ++i) {
+    if (!(top_volume[i] < std::numeric_limits<double>::infinity())) break;
+    const AxisBox improved = improve(g, top[i], scratch, 1e-6, 16);
+    if (improved.volume() < best_volume) best_volume = improved.volume(), best = improved;
+  }
+  return best;
+}
+
+}  // namespace tightbvh::fit_detail

@@ -7,6 +7,7 @@
 // recomputed exactly with floating-point expansions (error-free sums and products, Knuth /
 // Dekker; expansion growth and scaling, Shewchuk Section 2). The returned sign is the sign of the
 // exact determinant of the given doubles. Assumes no overflow (|coordinates| < ~1e100).
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
@@ -70,6 +71,25 @@ struct Expansion {
     if (q != 0.0 || m == 0) c[m++] = q;
     n = m;
   }
+  // this += f, f a non-overlapping expansion of fn components (FAST-EXPANSION-SUM, Shewchuk
+  // Theorem 13: merge the components by magnitude, then an error-free running sum; the output is
+  // non-overlapping under round-to-nearest-even).
+  void add(const double* f, int fn) {
+    double merged[N];
+    const int total = static_cast<int>(
+        std::merge(c, c + n, f, f + fn, merged, [](double x, double y) { return std::abs(x) < std::abs(y); }) - merged);
+    if (total == 0) return;
+    double q = merged[0];
+    int m = 0;
+    for (int i = 1; i < total; ++i) {
+      double sum, err;
+      two_sum(q, merged[i], sum, err);
+      if (err != 0.0) c[m++] = err;
+      q = sum;
+    }
+    if (q != 0.0 || m == 0) c[m++] = q;
+    n = m;
+  }
   [[nodiscard]] int sign() const { return n == 0 ? 0 : (c[n - 1] > 0.0) - (c[n - 1] < 0.0); }
 };
 
@@ -78,18 +98,21 @@ template <int N>
 inline void add_triple_product(Expansion<N>& out, double s, double a, double b, double c) {
   double p, e;
   two_product(s * a, b, p, e);
-  // (e, p) scaled by c: SCALE-EXPANSION on a two-component expansion.
-  double q, h;
-  two_product(e, c, q, h);
-  out.add(h);
+  // (e, p) scaled by c: SCALE-EXPANSION (Shewchuk Theorem 19) on a two-component expansion.
+  double h[4];
+  int k = 0;
+  double q, lo;
+  two_product(e, c, q, lo);
+  if (lo != 0.0) h[k++] = lo;
   double t_hi, t_lo;
   two_product(p, c, t_hi, t_lo);
   double sum;
-  two_sum(q, t_lo, sum, h);
-  out.add(h);
-  fast_two_sum(t_hi, sum, q, h);
-  out.add(h);
-  out.add(q);
+  two_sum(q, t_lo, sum, lo);
+  if (lo != 0.0) h[k++] = lo;
+  fast_two_sum(t_hi, sum, q, lo);
+  if (lo != 0.0) h[k++] = lo;
+  if (q != 0.0) h[k++] = q;
+  out.add(h, k);
 }
 
 // ---------------------------------------------------------------- orient2d
@@ -115,6 +138,7 @@ inline void add_triple_product(Expansion<N>& out, double s, double a, double b, 
   const double bound = kOrient2dBound * (std::abs(l) + std::abs(r));
   if (det > bound) return 1;
   if (-det > bound) return -1;
+  if (bound == 0.0) return 0;  // an exactly zero difference in both products
   if ((ax == bx && ay == by) || (ax == cx && ay == cy) || (bx == cx && by == cy)) return 0;
   return orient2d_exact(ax, ay, bx, by, cx, cy);
 }
@@ -123,8 +147,29 @@ inline void add_triple_product(Expansion<N>& out, double s, double a, double b, 
 // Sign of det[b - a, c - a, d - a] = ((b - a) x (c - a)) . (d - a): > 0 iff d is on the side of
 // plane (a, b, c) that (b - a) x (c - a) points to.
 [[nodiscard]] inline int orient3d_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  // det[b - a, c - a, d - a] = [b, c, d] - [a, c, d] + [a, b, d] - [a, b, c], with the triple
-  // product [x, y, z] = x . (y x z) expanded into six products of three coordinates.
+  // Fast exact case: when the differences b - a, c - a, d - a are exact doubles (Sterbenz:
+  // close coordinates), det[u, v, w] is the sum of six products of three doubles.
+  const Vec3 u = b - a, v = c - a, w = d - a;
+  const auto exact_difference = [](double x, double y, double diff) {
+    double s, e;
+    two_sum(x, -y, s, e);
+    return e == 0.0 && s == diff;
+  };
+  bool exact = true;
+  for (int k = 0; k < 3 && exact; ++k)
+    exact = exact_difference(b[k], a[k], u[k]) && exact_difference(c[k], a[k], v[k]) && exact_difference(d[k], a[k], w[k]);
+  if (exact) {
+    Expansion<6 * 4 + 1> e;
+    add_triple_product(e, 1, u.x(), v.y(), w.z());
+    add_triple_product(e, -1, u.x(), v.z(), w.y());
+    add_triple_product(e, -1, u.y(), v.x(), w.z());
+    add_triple_product(e, 1, u.y(), v.z(), w.x());
+    add_triple_product(e, 1, u.z(), v.x(), w.y());
+    add_triple_product(e, -1, u.z(), v.y(), w.x());
+    return e.sign();
+  }
+  // General case: det[b - a, c - a, d - a] = [b, c, d] - [a, c, d] + [a, b, d] - [a, b, c], with
+  // the triple product [x, y, z] = x . (y x z) expanded into six products of three coordinates.
   Expansion<24 * 4 + 1> e;
   const auto triple = [&e](double s, const Vec3& x, const Vec3& y, const Vec3& z) {
     add_triple_product(e, s, x.x(), y.y(), z.z());
@@ -148,8 +193,10 @@ struct OrientPlane {
   const Vec3* c;
   Vec3 normal;     // (b - a) x (c - a), rounded
   Vec3 permanent;  // the same with |.| on every product: bounds the rounding error
+  bool repeated;   // two of a, b, c coincide: every orientation is zero
 
-  OrientPlane(const Vec3& pa, const Vec3& pb, const Vec3& pc) : a(&pa), b(&pb), c(&pc) {
+  OrientPlane(const Vec3& pa, const Vec3& pb, const Vec3& pc)
+      : a(&pa), b(&pb), c(&pc), repeated(pa == pb || pa == pc || pb == pc) {
     const Vec3 u = pb - pa, v = pc - pa;
     normal = u.cross(v);
     permanent = Vec3(std::abs(u.y() * v.z()) + std::abs(u.z() * v.y()), std::abs(u.z() * v.x()) + std::abs(u.x() * v.z()),
@@ -162,7 +209,9 @@ struct OrientPlane {
     const double bound = kOrient3dBound * permanent.dot(w.cwiseAbs());
     if (det > bound) return 1;
     if (-det > bound) return -1;
-    if (d == *a || d == *b || d == *c) return 0;
+    // A zero bound means every product has an exactly zero difference as a factor (e.g. all
+    // four points on a plane z = const): the exact determinant is zero.
+    if (bound == 0.0 || repeated || d == *a || d == *b || d == *c) return 0;
     return orient3d_exact(*a, *b, *c, d);
   }
 };

@@ -89,17 +89,20 @@ std::size_t split_by_count(std::span<Index> order, std::span<Vec3> corners, cons
 std::size_t split_rapid(std::span<Index> order, std::span<Vec3> corners, const Obb& box, SplitScratch& scratch) {
   const std::size_t n = order.size();
   const auto axes = axes_by_length(box);
+  auto& keys = scratch.projections;
   for (const int a : axes) {
     const Vec3 dir = box.axes.col(a);
+    keys.resize(n);
     double sum = 0.0;
-    for (std::size_t p = 0; p < n; ++p) sum += corner_sum(corners, p).dot(dir);
+    for (std::size_t p = 0; p < n; ++p) sum += keys[p] = corner_sum(corners, p).dot(dir);
     const double mean = sum / static_cast<double>(n);
-    // Hoare partition of both arrays: left = centroid below the mean.
+    // Hoare partition of the three arrays: left = centroid below the mean.
     std::size_t lo = 0, hi = n;
     while (true) {
-      while (lo < hi && corner_sum(corners, lo).dot(dir) < mean) ++lo;
-      while (lo < hi && !(corner_sum(corners, hi - 1).dot(dir) < mean)) --hi;
+      while (lo < hi && keys[lo] < mean) ++lo;
+      while (lo < hi && !(keys[hi - 1] < mean)) --hi;
       if (lo + 1 >= hi) break;
+      std::swap(keys[lo], keys[hi - 1]);
       swap_positions(order, corners, lo, hi - 1);
       ++lo;
       --hi;

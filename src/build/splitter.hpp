@@ -24,6 +24,7 @@ struct SplitKey {
 // Buffers reused across nodes by one worker.
 struct SplitScratch {
   std::vector<SplitKey> keys;               // count/median split
+  std::vector<double> projections;          // rapid split
   std::vector<Aabb> bounds;                 // binned: triangle bounds in the node frame
   std::vector<Vec3> centers;                // binned: centroids in the node frame
   std::vector<std::uint32_t> order;         // reordering buffers

@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include "tightbvh/build.hpp"
+#include "tightbvh/fit.hpp"
 #include "tightbvh/tri_tri.hpp"
 
 namespace tightbvh {
@@ -176,7 +177,8 @@ TEST(Collide, MatchesBruteForceSmallSynthetic) {
   const Mesh sphere = uv_sphere(8, 12);
   const Mesh soup = random_soup(120, 1);
   EXPECT_GT(expect_matches_brute_force(sphere, soup, 10), 0);
-  EXPECT_GT(expect_matches_brute_force(soup, random_soup(80, 2), 11, 4), 0);  // leaves of 4
+  EXPECT_GT(expect_matches_brute_force(soup, random_soup(80, 2), 11, 4), 0);    // leaves of 4
+  EXPECT_GT(expect_matches_brute_force(sphere, soup, 14, 64), 0);                // leaves > one 32-triangle chunk
   EXPECT_GT(expect_matches_brute_force(cube(), sphere, 12), 0);
   EXPECT_GT(expect_matches_brute_force(cube(Vec3(-0.5, -0.5, -0.5)), random_soup(40, 3), 13), 0);  // every fitter
 }
@@ -324,6 +326,40 @@ TEST(CollideEdgeCases, DegenerateTriangles) {
   // Random soups with ~30% degenerate triangles against themselves shifted.
   const Mesh soup = random_soup(150, 9);
   EXPECT_FALSE(all_pairs_every_fitter(soup, Pose::identity(), soup, Pose{Mat3::Identity(), Vec3(0.1, 0, 0)}).empty());
+}
+
+// A hand-made caterpillar tree (every internal node: a one-triangle leaf and the rest) of depth
+// 600: the traversal stack outgrows its inline buffer and spills to the heap.
+TEST(CollideEdgeCases, VeryDeepTreeSpillsTheStack) {
+  Mesh strip;
+  const std::uint32_t n = 600;
+  for (std::uint32_t i = 0; i <= n; ++i) {
+    strip.vertices.push_back(Vec3(0.01 * i, 0, 0));
+    strip.vertices.push_back(Vec3(0.01 * i, 1, 0.001 * (i % 7)));
+  }
+  for (std::uint32_t i = 0; i < n; ++i) strip.triangles.push_back({2 * i, 2 * i + 2, 2 * i + 1});
+  Tree tree;
+  for (std::uint32_t i = 0; i < n; ++i) tree.triangle_order.push_back(i);
+  const auto box_of = [&](std::uint32_t first, std::uint32_t count) {
+    std::vector<Vec3> corners;
+    for (std::uint32_t t = first; t < first + count; ++t)
+      for (const Vec3& v : strip.corners(t)) corners.push_back(v);
+    return fit_triangles(corners, {.method = FitMethod::aabb});
+  };
+  // Internal node of level m (index 0, then 2m - 1) covers triangles [m, n): its first child
+  // (2m + 1) is the next level, its second (2m + 2) the leaf of triangle m. The traversal pops
+  // first children first, so a second child stays pending on the stack at every level.
+  tree.nodes.resize(2 * n - 1);
+  for (std::uint32_t m = 0; m + 1 < n; ++m) {
+    tree.nodes[m == 0 ? 0 : 2 * m - 1] = {box_of(m, n - m), 2 * m + 1, 0};
+    tree.nodes[2 * m + 2] = {box_of(m, 1), m, 1};
+  }
+  tree.nodes[2 * n - 3] = {box_of(n - 1, 1), n - 1, 1};
+  const Pose shifted{Mat3::Identity(), Vec3(0.005, 0.5, 0)};
+  const QueryResult reference = collide_brute_force(strip, Pose::identity(), strip, shifted, {.mode = QueryMode::all_pairs});
+  ASSERT_FALSE(reference.pairs.empty());
+  const QueryResult r = collide(tree, strip, Pose::identity(), tree, strip, shifted, {.mode = QueryMode::all_pairs});
+  EXPECT_EQ(r.pairs, reference.pairs);
 }
 
 TEST(CollideEdgeCases, EmptyTreesAndRelativePose) {

@@ -170,8 +170,8 @@ inline void add_triple_product(Expansion<N>& out, double s, double a, double b, 
   }
   // General case: det[b - a, c - a, d - a] = [b, c, d] - [a, c, d] + [a, b, d] - [a, b, c], with
   // the triple product [x, y, z] = x . (y x z) expanded into six products of three coordinates.
-  Expansion<24 * 4 + 1> e;
-  const auto triple = [&e](double s, const Vec3& x, const Vec3& y, const Vec3& z) {
+  // Each triple product is summed on its own, then the four pairwise (shorter merges).
+  const auto triple = [](Expansion<25>& e, double s, const Vec3& x, const Vec3& y, const Vec3& z) {
     add_triple_product(e, s, x.x(), y.y(), z.z());
     add_triple_product(e, -s, x.x(), y.z(), z.y());
     add_triple_product(e, -s, x.y(), y.x(), z.z());
@@ -179,11 +179,21 @@ inline void add_triple_product(Expansion<N>& out, double s, double a, double b, 
     add_triple_product(e, s, x.z(), y.x(), z.y());
     add_triple_product(e, -s, x.z(), y.y(), z.x());
   };
-  triple(1, b, c, d);
-  triple(-1, a, c, d);
-  triple(1, a, b, d);
-  triple(-1, a, b, c);
-  return e.sign();
+  Expansion<25> t[4];
+  triple(t[0], 1, b, c, d);
+  triple(t[1], -1, a, c, d);
+  triple(t[2], 1, a, b, d);
+  triple(t[3], -1, a, b, c);
+  Expansion<97> total;
+  Expansion<49> half;
+  half.add(t[0].c, t[0].n);
+  half.add(t[1].c, t[1].n);
+  total.add(half.c, half.n);
+  half.n = 0;
+  half.add(t[2].c, t[2].n);
+  half.add(t[3].c, t[3].n);
+  total.add(half.c, half.n);
+  return total.sign();
 }
 
 // A plane through (a, b, c) prepared for many orient3d queries against it.

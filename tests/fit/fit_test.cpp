@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <thread>
 
 #include "test_util.hpp"
 #include "tightbvh/hull.hpp"
@@ -81,15 +82,15 @@ TEST(Fit, EveryFitterContainsRandomAndMeshPoints) {
 TEST(Fit, ExactIsSmallestAndApproxWithinEpsilon) {
   auto sets = random_sets();
   for (auto& m : mesh_sets()) sets.push_back(std::move(m));
-  for (const double eps : {0.1, 0.02}) {
-    for (std::size_t i = 0; i < sets.size(); ++i) {
-      const auto& s = sets[i];
-      const double exact = volume_of(s, FitMethod::exact);
+  for (std::size_t i = 0; i < sets.size(); ++i) {
+    const auto& s = sets[i];
+    const double exact = volume_of(s, FitMethod::exact);
+    const double tight = 1.0 + 1e-9;
+    for (FitMethod m : kAll) EXPECT_LE(exact, volume_of(s, m) * tight) << to_string(m) << " set " << i;
+    for (const double eps : {0.1, 0.02}) {
       const double approx = volume_of(s, FitMethod::approx, {.epsilon = eps});
-      const double tight = 1.0 + 1e-9;
       EXPECT_LE(exact, approx * tight) << "set " << i;
       EXPECT_LE(approx, (1.0 + eps) * exact) << "set " << i << " eps " << eps;
-      for (FitMethod m : kAll) EXPECT_LE(exact, volume_of(s, m) * tight) << to_string(m) << " set " << i;
     }
   }
 }
@@ -193,8 +194,8 @@ double random_search(std::span<const Vec3> points, std::mt19937_64& rng) {
 
 TEST(Fit, ExactNeverBeatenByRandomRotationSearch) {
   std::mt19937_64 rng(31337);
-  for (int trial = 0; trial < 12; ++trial) {
-    const std::size_t n = 8 + static_cast<std::size_t>(trial * 2);
+  for (int trial = 0; trial < 24; ++trial) {
+    const std::size_t n = 8 + static_cast<std::size_t>(trial);
     auto points = trial % 3 == 0 ? sphere_points(n, 500 + trial)
                                  : (trial % 3 == 1 ? uniform_cube(n, 600 + trial) : test::gaussian_points(n, 700 + trial));
     const double exact = volume_of(points, FitMethod::exact);
@@ -247,6 +248,56 @@ TEST(Fit, DegenerateInputsGiveZeroVolumeBoxes) {
     return 4 * h[1] * h[2];
   };
   EXPECT_NEAR(area(exact), area(approx), 1e-9 * area(exact));
+}
+
+TEST(Fit, NearlyDegenerateAndLatticeInputs) {
+  // A lattice (many coplanar and collinear points, exact ties everywhere), a slab 1e-9 thick,
+  // and a needle: every hull method must stay valid and ordered.
+  std::vector<std::vector<Vec3>> sets;
+  std::vector<Vec3> lattice;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 3; ++k) lattice.emplace_back(i, 0.5 * j, 0.25 * k);
+  sets.push_back(lattice);
+  std::mt19937_64 rng(77);
+  const Mat3 r = test::random_rotation(rng);
+  auto slab = uniform_cube(200, 5);
+  for (auto& p : slab) p = r * Vec3(p.x(), p.y(), 1e-9 * p.z());
+  sets.push_back(slab);
+  auto needle = uniform_cube(100, 6);
+  for (auto& p : needle) p = r * Vec3(p.x(), 1e-4 * p.y(), 1e-4 * p.z());
+  sets.push_back(needle);
+  for (std::size_t i = 0; i < sets.size(); ++i) {
+    const double exact = volume_of(sets[i], FitMethod::exact);
+    for (FitMethod m : kAll) {
+      const Obb box = fit_points(sets[i], {.method = m});
+      EXPECT_TRUE(valid_box_containing(box, sets[i])) << to_string(m) << " set " << i;
+      EXPECT_LE(exact, box.volume() * (1 + 1e-6) + 1e-300) << to_string(m) << " set " << i;
+    }
+  }
+  EXPECT_NEAR(volume_of(lattice, FitMethod::exact), 4.0 * 1.5 * 0.5, 1e-12);
+}
+
+TEST(Fit, ConcurrentWorkspacesGiveTheSameBoxes) {
+  // The builder fits nodes in parallel, one workspace per thread (qhull's reentrant API).
+  auto sets = random_sets();
+  std::vector<std::vector<double>> expected(sets.size());
+  for (std::size_t i = 0; i < sets.size(); ++i)
+    for (FitMethod m : {FitMethod::diameter, FitMethod::approx, FitMethod::exact})
+      expected[i].push_back(volume_of(sets[i], m));
+  std::vector<int> mismatches(4, 0);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&, t] {
+      FitWorkspace ws;
+      for (std::size_t i = 0; i < sets.size(); ++i) {
+        int k = 0;
+        for (FitMethod m : {FitMethod::diameter, FitMethod::approx, FitMethod::exact})
+          mismatches[t] += fit_points(sets[i], {.method = m}, ws).volume() != expected[i][k++];
+      }
+    });
+  for (auto& th : threads) th.join();
+  for (int t = 0; t < 4; ++t) EXPECT_EQ(mismatches[t], 0) << "thread " << t;
 }
 
 TEST(Fit, RejectsNonFinite) {

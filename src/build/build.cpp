@@ -1,0 +1,252 @@
+#include "tightbvh/build.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "parallel.hpp"
+#include "splitter.hpp"
+
+namespace tightbvh {
+
+std::optional<Fitter> parse_fitter(std::string_view name) {
+  if (name == "auto") return Fitter{AutoFit{}};
+  if (const auto method = parse_fit_method(name)) return Fitter{*method};
+  return std::nullopt;
+}
+
+std::string to_string(const Fitter& fitter) {
+  if (const auto* method = std::get_if<FitMethod>(&fitter)) return std::string(to_string(*method));
+  return "auto";
+}
+
+namespace {
+
+using Index = std::uint32_t;
+
+// The box of a single non-degenerate triangle: axes = longest edge, in-plane normal to it,
+// triangle normal (right-handed); nullopt for a degenerate triangle (left to the fitter).
+[[nodiscard]] std::optional<Obb> triangle_box(const std::array<Vec3, 3>& c) {
+  const Vec3 edges[3] = {c[1] - c[0], c[2] - c[1], c[0] - c[2]};
+  const double len2[3] = {edges[0].squaredNorm(), edges[1].squaredNorm(), edges[2].squaredNorm()};
+  const int longest = len2[0] >= len2[1] ? (len2[0] >= len2[2] ? 0 : 2) : (len2[1] >= len2[2] ? 1 : 2);
+  const Vec3 normal = edges[0].cross(edges[1]);
+  const double normal_norm = normal.norm();
+  // Degenerate (zero or tiny area relative to the edges): the fitter handles it robustly.
+  if (!(normal_norm > 1e-12 * len2[longest])) return std::nullopt;
+  Obb box;
+  box.axes.col(0) = edges[longest] / std::sqrt(len2[longest]);
+  box.axes.col(2) = normal / normal_norm;
+  box.axes.col(1) = box.axes.col(2).cross(box.axes.col(0));
+  const Vec3 origin = c[0];
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // c[0] is at the local origin
+  for (int i = 1; i < 3; ++i) {
+    const Vec3 q = box.axes.transpose() * (c[i] - origin);
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  box.half_extents = 0.5 * (hi - lo);
+  box.center = origin + box.axes * (0.5 * (hi + lo));
+  return box;
+}
+
+// Range of triangle_order owned by a node being built.
+struct Pending {
+  Index node;
+  Index begin;
+  Index end;
+};
+
+// Per-worker buffers, reused from node to node: no allocation per node once they have grown.
+struct Scratch {
+  std::vector<Pending> stack;
+  FitWorkspace fit;  // hulls, projections, ... of the fitters
+  detail::SplitScratch split;
+};
+
+class Builder {
+ public:
+  Builder(const Mesh& mesh, const BuildOptions& options, std::vector<Index>& order)
+      : options_(options), order_(order), corners_(3 * mesh.triangles.size()) {
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k) corners_[3 * t + k] = mesh.vertices[mesh.triangles[t][k]];
+  }
+
+  // Fits the node's box; returns the split point (begin < mid < end), or `end` for a leaf.
+  Index process(Node& node, Index begin, Index end, Scratch& scratch) {
+    node.box = fit(begin, end, scratch);
+    if (end - begin <= options_.leaf_size) {
+      node.first = begin;
+      node.count = end - begin;
+      return end;
+    }
+    const std::size_t n = end - begin;
+    return begin + static_cast<Index>(detail::split(options_.split, std::span<Index>(order_).subspan(begin, n),
+                                                    std::span<Vec3>(corners_).subspan(3 * std::size_t{begin}, 3 * n),
+                                                    node.box, scratch.split));
+  }
+
+  // Builds the subtree of [begin, end) whose root is nodes[root] depth first, allocating child
+  // pairs from nodes[next ...]; returns the end of what it used. An explicit stack: the RAPID
+  // split can be very unbalanced (depth ~ n on some inputs).
+  std::size_t build_subtree(Index root, Index begin, Index end, std::span<Node> nodes, std::size_t next,
+                            Scratch& scratch) {
+    auto& stack = scratch.stack;
+    stack.assign(1, {root, begin, end});
+    while (!stack.empty()) {
+      const Pending p = stack.back();
+      stack.pop_back();
+      Node& node = nodes[p.node];
+      const Index mid = process(node, p.begin, p.end, scratch);
+      if (mid != p.end) {
+        node.first = static_cast<Index>(next);
+        node.count = 0;
+        next += 2;
+        stack.push_back({node.first + 1, mid, p.end});
+        stack.push_back({node.first, p.begin, mid});
+      }
+    }
+    return next;
+  }
+
+ private:
+  [[nodiscard]] FitMethod method_for(Index count) const {
+    if (const auto* method = std::get_if<FitMethod>(&options_.fitter)) return *method;
+    const AutoFit& a = std::get<AutoFit>(options_.fitter);
+    return count >= a.tight_min_triangles ? a.tight : a.cheap;
+  }
+
+  [[nodiscard]] Obb fit(Index begin, Index end, Scratch& scratch) const {
+    const FitMethod method = method_for(end - begin);
+    const auto corners = std::span<const Vec3>(corners_).subspan(3 * std::size_t{begin}, 3 * std::size_t{end - begin});
+    if (end - begin == 1 && method != FitMethod::aabb) {
+      // One triangle: its minimum-volume box is flat, with its rectangle flush with the longest
+      // edge (the minimum-area rectangle of a triangle). No fitter can do better, and it costs
+      // no eigen-decomposition on half of the nodes. FCL's OBB fit3 does the same.
+      if (const auto box = triangle_box({corners[0], corners[1], corners[2]})) return *box;
+    }
+    FitOptions fit = options_.fit;
+    fit.method = method;
+    Obb box = fit_triangles(corners, fit, scratch.fit);
+    if (const auto* a = std::get_if<AutoFit>(&options_.fitter); a && a->or_aabb && method != FitMethod::aabb) {
+      // The axis-aligned box costs one pass and is often the smaller one (axis-aligned CAD
+      // parts, nodes with a near-isotropic covariance where the PCA axes are arbitrary).
+      fit.method = FitMethod::aabb;
+      if (const Obb aabb = fit_triangles(corners, fit, scratch.fit); aabb.volume() < box.volume()) box = aabb;
+    }
+    return box;
+  }
+
+  const BuildOptions& options_;
+  // Position-indexed, permuted in lockstep by the splits: position p holds triangle order_[p]
+  // with corners corners_[3p..3p+3). Each node (and each task) touches only its own range.
+  std::vector<Index>& order_;
+  std::vector<Vec3> corners_;
+};
+
+// Subtrees at most this large are built by one task. It depends on the triangle count only,
+// never on the thread count, so the node numbering (and thus the tree) is the same for any
+// number of threads.
+[[nodiscard]] Index task_grain(std::size_t triangles) {
+  return static_cast<Index>(std::max<std::size_t>(1024, triangles / 128));
+}
+
+}  // namespace
+
+Tree build(const Mesh& mesh, const BuildOptions& options) {
+  (void)validate(mesh, "mesh");
+  if (mesh.triangles.size() >= std::numeric_limits<Index>::max())
+    throw InputError("build: more than 2^32 - 2 triangles");
+  if (options.leaf_size == 0) throw InputError("build: leaf_size must be at least 1");
+  const auto n = static_cast<Index>(mesh.triangles.size());
+
+  Tree tree;
+  tree.triangle_order.resize(n);
+  for (Index i = 0; i < n; ++i) tree.triangle_order[i] = i;
+  Builder builder(mesh, options, tree.triangle_order);
+  const unsigned threads =
+      options.threads != 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  detail::WorkerPool<Scratch> pool(threads);
+
+  // Top levels, breadth first: the nodes of one level are independent, so their fits run in
+  // parallel; child slots are then allocated in level order, which fixes the numbering.
+  const Index grain = task_grain(n);
+  tree.nodes.emplace_back();
+  std::vector<Pending> level{{0, 0, n}};
+  std::vector<Pending> tasks;
+  std::vector<Index> mids;
+  while (!level.empty()) {
+    std::vector<Pending> big;
+    for (const Pending& p : level) (p.end - p.begin > grain ? big : tasks).push_back(p);
+    mids.assign(big.size(), 0);
+    pool.run(big.size(), [&](std::size_t i, Scratch& scratch) {
+      mids[i] = builder.process(tree.nodes[big[i].node], big[i].begin, big[i].end, scratch);
+    });
+    level.clear();
+    for (std::size_t i = 0; i < big.size(); ++i) {
+      Node& node = tree.nodes[big[i].node];
+      if (mids[i] == big[i].end) continue;  // a leaf (leaf_size > grain)
+      node.first = static_cast<Index>(tree.nodes.size());
+      node.count = 0;
+      level.push_back({node.first, big[i].begin, mids[i]});
+      level.push_back({node.first + 1, mids[i], big[i].end});
+      tree.nodes.emplace_back();
+      tree.nodes.emplace_back();
+    }
+  }
+
+  // Subtrees below the grain: one task each, largest first for load balance. A subtree of m
+  // triangles has at most 2m - 1 nodes (exactly that for leaf_size 1): each task writes its
+  // nodes directly into its own slice of the final array, at an offset fixed by the task order.
+  std::vector<std::size_t> offset(tasks.size() + 1, tree.nodes.size());
+  for (std::size_t i = 0; i < tasks.size(); ++i)
+    offset[i + 1] = offset[i] + 2 * std::size_t{tasks[i].end - tasks[i].begin} - 2;
+  tree.nodes.resize(offset.back());
+  std::vector<std::size_t> used(tasks.size());
+  std::vector<std::size_t> by_size(tasks.size());
+  for (std::size_t i = 0; i < by_size.size(); ++i) by_size[i] = i;
+  std::stable_sort(by_size.begin(), by_size.end(), [&](std::size_t a, std::size_t b) {
+    return tasks[a].end - tasks[a].begin > tasks[b].end - tasks[b].begin;
+  });
+  pool.run(tasks.size(), [&](std::size_t k, Scratch& scratch) {
+    const std::size_t i = by_size[k];
+    const Pending& p = tasks[i];
+    used[i] = builder.build_subtree(p.node, p.begin, p.end, tree.nodes, offset[i], scratch) - offset[i];
+  });
+  // With leaf_size > 1 the slices have unused tails: close the gaps, in task order.
+  std::size_t write = offset[0];
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    const std::size_t shift = offset[i] - write;
+    if (shift != 0) {
+      Node& root = tree.nodes[tasks[i].node];
+      if (!root.is_leaf()) root.first -= static_cast<Index>(shift);
+      for (std::size_t k = offset[i]; k < offset[i] + used[i]; ++k) {
+        Node node = tree.nodes[k];
+        if (!node.is_leaf()) node.first -= static_cast<Index>(shift);
+        tree.nodes[k - shift] = node;
+      }
+    }
+    write += used[i];
+  }
+  tree.nodes.resize(write);
+  if (tree.nodes.capacity() > write + write / 4) tree.nodes.shrink_to_fit();
+  return tree;
+}
+
+BuildResult build_with_stats(const Mesh& mesh, const BuildOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  BuildResult result;
+  result.tree = build(mesh, options);
+  result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.stats.tree = tree_stats(result.tree);
+  return result;
+}
+
+}  // namespace tightbvh

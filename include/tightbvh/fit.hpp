@@ -1,5 +1,7 @@
 #pragma once
 // Box fitters: functions from points (or a triangle soup) to an Obb that contains them.
+#include <cstddef>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string_view>
@@ -21,18 +23,46 @@ enum class FitMethod {
 struct FitOptions {
   FitMethod method = FitMethod::approx;
   int grid = 3;                    // k: primitive grid directions with L-inf norm <= k
-  std::optional<double> epsilon;   // when set, chooses k from epsilon (see fit.cpp)
+  std::optional<double> epsilon;   // when set, chooses k from epsilon (see grid_for_epsilon)
   bool improve = true;             // local improvement step (the "(Improved)" rows)
 };
 
 [[nodiscard]] std::optional<FitMethod> parse_fit_method(std::string_view name);
 [[nodiscard]] std::string_view to_string(FitMethod method);
 
+// The grid radius k used for a requested epsilon (documented in fit.cpp and the README).
+[[nodiscard]] int grid_for_epsilon(double epsilon);
+
+// Reusable scratch memory for the fitters (hull, projections, 2D hull, ...). Fitting many
+// nodes with one workspace allocates only while the buffers grow. Not thread-safe: use one
+// workspace per thread.
+class FitWorkspace {
+ public:
+  FitWorkspace();
+  ~FitWorkspace();
+  FitWorkspace(FitWorkspace&&) noexcept;
+  FitWorkspace& operator=(FitWorkspace&&) noexcept;
+  FitWorkspace(const FitWorkspace&) = delete;
+  FitWorkspace& operator=(const FitWorkspace&) = delete;
+
+  // Number of convex-hull vertices used by the last fit (0 when the method needs no hull).
+  [[nodiscard]] std::size_t last_hull_vertices() const;
+
+  struct Scratch;
+  [[nodiscard]] Scratch& scratch() { return *scratch_; }
+
+ private:
+  std::unique_ptr<Scratch> scratch_;
+};
+
 // Fits a box to a point set. `pca` (which needs triangles) falls back to `pca_vertex` here.
 // Throws InputError on NaN/Inf input or an empty set.
 [[nodiscard]] Obb fit_points(std::span<const Vec3> points, const FitOptions& options);
+[[nodiscard]] Obb fit_points(std::span<const Vec3> points, const FitOptions& options, FitWorkspace& workspace);
 
 // Fits a box to a triangle soup given as corners, three per triangle (size % 3 == 0).
 [[nodiscard]] Obb fit_triangles(std::span<const Vec3> corners, const FitOptions& options);
+[[nodiscard]] Obb fit_triangles(std::span<const Vec3> corners, const FitOptions& options,
+                                FitWorkspace& workspace);
 
 }  // namespace tightbvh

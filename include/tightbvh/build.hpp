@@ -1,0 +1,61 @@
+#pragma once
+// The top-down builder: a pure function from a triangle soup to a Tree.
+//   fit a box to the node's triangle corners -> split the triangles -> recurse on both halves.
+// Every node's box is fitted from the node's own corners, never merged from the children's
+// (merging OBBs, as FCL's operator+ does, loses tightness and even containment).
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+
+#include "tightbvh/fit.hpp"
+#include "tightbvh/mesh.hpp"
+#include "tightbvh/split.hpp"
+#include "tightbvh/tree.hpp"
+#include "tightbvh/tree_stats.hpp"
+
+namespace tightbvh {
+
+// Tight fitting where it pays, cheap fitting where it does not: the boxes near the root are
+// large and tested in almost every query, the many small boxes near the leaves are tested
+// rarely and their volume is small anyway. Nodes with at least `tight_min_triangles` triangles
+// get `tight`, the others `cheap`. The default threshold is measured (README, "Tree builder").
+struct AutoFit {
+  std::uint32_t tight_min_triangles = 64;
+  FitMethod tight = FitMethod::approx;
+  FitMethod cheap = FitMethod::pca;
+  friend bool operator==(const AutoFit&, const AutoFit&) = default;
+};
+
+// A fixed method at every node, or the `auto` policy.
+using Fitter = std::variant<FitMethod, AutoFit>;
+
+// "auto" or any name parse_fit_method accepts.
+[[nodiscard]] std::optional<Fitter> parse_fitter(std::string_view name);
+[[nodiscard]] std::string to_string(const Fitter& fitter);
+
+struct BuildOptions {
+  Fitter fitter = AutoFit{};
+  FitOptions fit;                         // grid / epsilon / improve; fit.method is set per node
+  SplitMethod split = SplitMethod::rapid;
+  std::uint32_t leaf_size = 1;            // max triangles per leaf (RAPID and FCL use 1)
+  unsigned threads = 0;                   // 0: std::thread::hardware_concurrency()
+};
+
+struct BuildStats {
+  TreeStats tree;
+  double seconds = 0.0;  // wall-clock time of the build (not of computing these stats)
+};
+
+struct BuildResult {
+  Tree tree;
+  BuildStats stats;
+};
+
+// Pure; the result is the same bit for bit for any `threads`. Throws InputError for an invalid
+// mesh (see validate(const Mesh&)), more than 2^32 - 2 triangles or leaf_size == 0.
+[[nodiscard]] Tree build(const Mesh& mesh, const BuildOptions& options = {});
+[[nodiscard]] BuildResult build_with_stats(const Mesh& mesh, const BuildOptions& options = {});
+
+}  // namespace tightbvh

@@ -1,0 +1,90 @@
+#pragma once
+// Tree-vs-tree collision queries between two posed triangle meshes.
+//
+// Touching: triangles are closed sets; two triangles touch iff they share at least one point
+// (shared vertices and edges, a vertex on a face, coplanar overlap all count). Degenerate
+// (zero-area) triangles are the segment or point they are. See tri_tri.hpp; the brute-force
+// reference below uses the same predicate.
+//
+// Frames: B's vertices are mapped into A's mesh frame with the relative pose
+// relative_pose(pa, pb) = pa^-1 * pb, computed once per query; triangle pairs are tested there,
+// in both collide() and collide_brute_force(), with the same arithmetic, so both report exactly
+// the same pairs.
+//
+// Traversal: Gottschalk et al. (1996) descent over node pairs with the 15-axis SAT
+// (obb_overlap.hpp), splitting the larger box (by volume) first, an explicit stack, B's box
+// mapped into A's box frame per node pair. Boxes are tested with a small margin (kBoxMargin
+// times the meshes' scale) so that rounding and the fitters' containment tolerance never cull a
+// touching pair.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "tightbvh/mesh.hpp"
+#include "tightbvh/pose.hpp"
+#include "tightbvh/tree.hpp"
+
+namespace tightbvh {
+
+enum class QueryMode {
+  first_hit,  // stop at the first touching triangle pair
+  all_pairs,  // every touching triangle pair
+};
+
+// Which node of a pair of internal nodes is split during the descent.
+enum class DescendRule {
+  larger_volume,  // the box with the larger volume (default)
+  larger_extent,  // the box with the larger maximal half extent
+};
+
+struct QueryOptions {
+  QueryMode mode = QueryMode::first_hit;
+  DescendRule descend = DescendRule::larger_volume;
+};
+
+// Relative margin of the box tests (times the sum of the two root boxes' scales).
+inline constexpr double kBoxMargin = 1e-9;
+
+struct QueryStats {
+  std::uint64_t box_tests = 0;       // SAT tests of node pairs
+  std::uint64_t triangle_tests = 0;  // triangle-triangle tests
+
+  friend bool operator==(const QueryStats&, const QueryStats&) = default;
+};
+
+// Original triangle indices (into ma.triangles and mb.triangles).
+struct TrianglePair {
+  std::uint32_t a = 0;
+  std::uint32_t b = 0;
+
+  friend auto operator<=>(const TrianglePair&, const TrianglePair&) = default;
+};
+
+struct QueryResult {
+  bool hit = false;
+  // all_pairs: every touching pair, sorted by (a, b), unique. first_hit: the pair found, if any.
+  std::vector<TrianglePair> pairs;
+  QueryStats stats;
+};
+
+// pa^-1 * pb: maps B's mesh frame to A's mesh frame.
+[[nodiscard]] Pose relative_pose(const Pose& pa, const Pose& pb);
+
+// Tree `a` must have been built over mesh `ma` (and `b` over `mb`); boxes in the mesh frames.
+[[nodiscard]] QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa,  //
+                                  const Tree& b, const Mesh& mb, const Pose& pb,  //
+                                  const QueryOptions& options = {});
+
+// One query per pose of B (A at pa), spread over `threads` threads (0: hardware concurrency).
+// Results are in pose order and identical for any thread count.
+[[nodiscard]] std::vector<QueryResult> collide_batch(const Tree& a, const Mesh& ma, const Pose& pa,  //
+                                                     const Tree& b, const Mesh& mb,                 //
+                                                     std::span<const Pose> poses_b,                 //
+                                                     const QueryOptions& options = {}, unsigned threads = 0);
+
+// Reference: every triangle pair, same predicate and same transform as collide(). In
+// first_hit mode it stops at the first touching pair (in index order). stats.box_tests == 0.
+[[nodiscard]] QueryResult collide_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb,
+                                              const QueryOptions& options = {});
+
+}  // namespace tightbvh

@@ -1,0 +1,38 @@
+#pragma once
+// Versioned binary save/load of a Tree.
+//
+// Layout (all integers and doubles little-endian):
+//   0  magic   "TBVHTREE"                                         8 bytes
+//   8  version u32 (kTreeFormatVersion)
+//  12  node_size u32 (128: bytes of one serialized node)
+//  16  node_count u64
+//  24  triangle_count u64                                         (entries of triangle_order)
+//  32  checksum u64: FNV-1a 64 of bytes [16, 32) and of the payload
+//  40  payload: node_count nodes {center[3], axes[9] column-major, half_extents[3] (f64),
+//               first, count (u32)}, then triangle_count u32
+// The file size must be exactly 40 + node_count * 128 + triangle_count * 4, so a corrupt
+// count can never cause an allocation larger than the file.
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "tightbvh/tree.hpp"
+
+namespace tightbvh {
+
+inline constexpr std::uint32_t kTreeFormatVersion = 1;
+
+[[nodiscard]] std::vector<std::byte> serialize(const Tree& tree);
+
+// Throws InputError naming `source` and the problem (wrong magic, unsupported version,
+// truncated/oversized, checksum mismatch, broken structure) for any bad input.
+[[nodiscard]] Tree deserialize(std::span<const std::byte> bytes, const std::string& source = "tree");
+
+// Throws InputError naming the file if it cannot be written / read, or is not a valid tree.
+void save(const Tree& tree, const std::filesystem::path& path);
+[[nodiscard]] Tree load(const std::filesystem::path& path);
+
+}  // namespace tightbvh

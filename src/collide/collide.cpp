@@ -1,0 +1,209 @@
+// Tree-vs-tree collision queries (Gottschalk, Lin & Manocha 1996 descent; SAT box test;
+// Guigue-Devillers triangle test). See include/tightbvh/collide.hpp.
+#include "tightbvh/collide.hpp"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <exception>
+#include <thread>
+
+#include "tightbvh/obb_overlap.hpp"
+#include "tightbvh/tri_tri.hpp"
+
+namespace tightbvh {
+namespace {
+
+// B's vertex in A's frame. Written out so that collide() and collide_brute_force() evaluate
+// exactly the same expression (same operation order) and hence see the same triangles.
+[[nodiscard]] inline Vec3 map_point(const Pose& rel, const Vec3& v) {
+  const Mat3& r = rel.rotation;
+  const Vec3& t = rel.translation;
+  return {r(0, 0) * v.x() + r(0, 1) * v.y() + r(0, 2) * v.z() + t.x(),
+          r(1, 0) * v.x() + r(1, 1) * v.y() + r(1, 2) * v.z() + t.y(),
+          r(2, 0) * v.x() + r(2, 1) * v.y() + r(2, 2) * v.z() + t.z()};
+}
+
+[[nodiscard]] double box_scale(const Obb& box) {
+  return box.center.cwiseAbs().maxCoeff() + box.half_extents.cwiseAbs().maxCoeff();
+}
+
+struct NodePair {
+  std::uint32_t a, b;
+};
+
+// Explicit traversal stack: a fixed inline buffer, spilling to the heap only for very deep trees.
+class PairStack {
+ public:
+  void push(NodePair p) {
+    if (size_ < inline_.size()) {
+      inline_[size_++] = p;
+    } else {
+      spill_.push_back(p);
+      ++size_;
+    }
+  }
+  [[nodiscard]] bool empty() const { return size_ == 0; }
+  NodePair pop() {
+    --size_;
+    if (size_ >= inline_.size()) {
+      const NodePair p = spill_.back();
+      spill_.pop_back();
+      return p;
+    }
+    return inline_[size_];
+  }
+
+ private:
+  std::array<NodePair, 256> inline_;
+  std::vector<NodePair> spill_;
+  std::size_t size_ = 0;
+};
+
+// Number of B triangles mapped into A's frame at once in a leaf-leaf test.
+constexpr std::uint32_t kLeafChunk = 32;
+
+template <bool FirstHit>
+void traverse(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& mb, const Pose& rel,
+              DescendRule rule, QueryResult& result) {
+  const Mat3& R = rel.rotation;
+  const Vec3& t = rel.translation;
+  const double margin = kBoxMargin * (box_scale(ta.nodes[0].box) + box_scale(tb.nodes[0].box) +
+                                      t.cwiseAbs().maxCoeff());
+  const auto size_of = [rule](const Obb& box) {
+    return rule == DescendRule::larger_volume ? box.half_extents.prod() : box.half_extents.maxCoeff();
+  };
+  std::uint64_t box_tests = 0, triangle_tests = 0;
+  std::array<std::array<Vec3, 3>, kLeafChunk> mapped;
+  PairStack stack;
+  stack.push({0, 0});
+  while (!stack.empty()) {
+    const NodePair np = stack.pop();
+    const Node& na = ta.nodes[np.a];
+    const Node& nb = tb.nodes[np.b];
+    // B's box in A's box frame: rotation C = Aa^T R Bb, center Aa^T (R cb + t - ca).
+    ++box_tests;
+    const Mat3 ra = na.box.axes.transpose() * R;
+    const Mat3 c = ra * nb.box.axes;
+    const Vec3 d = ra * nb.box.center + na.box.axes.transpose() * (t - na.box.center);
+    if (!obb_overlap(c, d, na.box.half_extents, nb.box.half_extents, margin)) continue;
+
+    if (na.is_leaf() && nb.is_leaf()) {
+      for (std::uint32_t cb = 0; cb < nb.count; cb += kLeafChunk) {
+        const std::uint32_t nbc = std::min(kLeafChunk, nb.count - cb);
+        for (std::uint32_t j = 0; j < nbc; ++j) {
+          const Triangle& tri = mb.triangles[tb.triangle_order[nb.first + cb + j]];
+          for (int k = 0; k < 3; ++k) mapped[j][k] = map_point(rel, mb.vertices[tri[k]]);
+        }
+        for (std::uint32_t i = 0; i < na.count; ++i) {
+          const std::uint32_t ia = ta.triangle_order[na.first + i];
+          const Triangle& tri = ma.triangles[ia];
+          const Vec3& p0 = ma.vertices[tri[0]];
+          const Vec3& p1 = ma.vertices[tri[1]];
+          const Vec3& p2 = ma.vertices[tri[2]];
+          for (std::uint32_t j = 0; j < nbc; ++j) {
+            ++triangle_tests;
+            if (tri_tri_overlap(p0, p1, p2, mapped[j][0], mapped[j][1], mapped[j][2])) {
+              result.hit = true;
+              result.pairs.push_back({ia, tb.triangle_order[nb.first + cb + j]});
+              if constexpr (FirstHit) {
+                result.stats.box_tests += box_tests;
+                result.stats.triangle_tests += triangle_tests;
+                return;
+              }
+            }
+          }
+        }
+      }
+      continue;
+    }
+    // Descend into the larger node (or the only internal one).
+    const bool split_a = nb.is_leaf() || (!na.is_leaf() && size_of(na.box) >= size_of(nb.box));
+    if (split_a) {
+      stack.push({na.first + 1, np.b});
+      stack.push({na.first, np.b});
+    } else {
+      stack.push({np.a, nb.first + 1});
+      stack.push({np.a, nb.first});
+    }
+  }
+  result.stats.box_tests += box_tests;
+  result.stats.triangle_tests += triangle_tests;
+}
+
+void finish(QueryResult& result) {
+  std::sort(result.pairs.begin(), result.pairs.end());
+  result.pairs.erase(std::unique(result.pairs.begin(), result.pairs.end()), result.pairs.end());
+}
+
+}  // namespace
+
+Pose relative_pose(const Pose& pa, const Pose& pb) { return pa.inverse() * pb; }
+
+QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,
+                    const QueryOptions& options) {
+  QueryResult result;
+  if (a.nodes.empty() || b.nodes.empty()) return result;
+  const Pose rel = relative_pose(pa, pb);
+  if (options.mode == QueryMode::first_hit) {
+    traverse<true>(a, ma, b, mb, rel, options.descend, result);
+  } else {
+    traverse<false>(a, ma, b, mb, rel, options.descend, result);
+    finish(result);
+  }
+  return result;
+}
+
+std::vector<QueryResult> collide_batch(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb,
+                                       std::span<const Pose> poses_b, const QueryOptions& options, unsigned threads) {
+  std::vector<QueryResult> results(poses_b.size());
+  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = static_cast<unsigned>(std::min<std::size_t>(threads, poses_b.size()));
+  if (threads <= 1) {
+    for (std::size_t i = 0; i < poses_b.size(); ++i) results[i] = collide(a, ma, pa, b, mb, poses_b[i], options);
+    return results;
+  }
+  // Dynamic scheduling over pose indices; each result goes to its own slot, so the output does
+  // not depend on the thread count or the interleaving.
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr error;
+  std::atomic<bool> failed{false};
+  const auto worker = [&] {
+    try {
+      for (std::size_t i = next++; i < poses_b.size() && !failed; i = next++)
+        results[i] = collide(a, ma, pa, b, mb, poses_b[i], options);
+    } catch (...) {
+      if (!failed.exchange(true)) error = std::current_exception();
+    }
+  };
+  std::vector<std::thread> pool;
+  pool.reserve(threads - 1);
+  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
+  worker();
+  for (std::thread& th : pool) th.join();
+  if (error) std::rethrow_exception(error);
+  return results;
+}
+
+QueryResult collide_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb,
+                                const QueryOptions& options) {
+  QueryResult result;
+  const Pose rel = relative_pose(pa, pb);
+  std::vector<Vec3> mapped(mb.vertices.size());
+  for (std::size_t i = 0; i < mb.vertices.size(); ++i) mapped[i] = map_point(rel, mb.vertices[i]);
+  for (std::uint32_t ia = 0; ia < ma.triangles.size(); ++ia) {
+    const auto [p0, p1, p2] = ma.corners(ia);
+    for (std::uint32_t ib = 0; ib < mb.triangles.size(); ++ib) {
+      const Triangle& t = mb.triangles[ib];
+      ++result.stats.triangle_tests;
+      if (tri_tri_overlap(p0, p1, p2, mapped[t[0]], mapped[t[1]], mapped[t[2]])) {
+        result.hit = true;
+        result.pairs.push_back({ia, ib});
+        if (options.mode == QueryMode::first_hit) return result;
+      }
+    }
+  }
+  return result;  // already sorted and unique
+}
+
+}  // namespace tightbvh

@@ -1,0 +1,25 @@
+#pragma once
+// Internal: boxes from a given orthonormal frame, and frames from one or two directions.
+#include <span>
+
+#include "tightbvh/obb.hpp"
+
+namespace tightbvh::fit_detail {
+
+// A right-handed orthonormal frame whose first column is along `v` (v need not be unit).
+// Returns the identity when v is zero.
+[[nodiscard]] Mat3 frame_from_axis(const Vec3& v);
+
+// Re-orthonormalises the columns of `axes` (Gram-Schmidt, in order) and makes the frame
+// right-handed (third column = first x second). Degenerate columns are completed.
+[[nodiscard]] Mat3 orthonormalize(const Mat3& axes);
+
+// The tightest box with the given orthonormal right-handed axes containing `points`.
+// Projections are taken relative to `origin` (use a point near the set) so that a set far
+// from the origin (1e6) keeps its relative precision.
+[[nodiscard]] Obb box_with_axes(std::span<const Vec3> points, const Mat3& axes, const Vec3& origin);
+
+// A point of the set's bounding box center, used as the local origin.
+[[nodiscard]] Vec3 local_origin(std::span<const Vec3> points);
+
+}  // namespace tightbvh::fit_detail

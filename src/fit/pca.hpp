@@ -1,0 +1,18 @@
+#pragma once
+// Internal: principal-component frames (RAPID/OBBTree and FCL variants).
+#include <span>
+
+#include "tightbvh/pose.hpp"
+
+namespace tightbvh::fit_detail {
+
+// FCL-style: eigenvectors of the unweighted covariance of the points (triangle corners).
+[[nodiscard]] Mat3 pca_vertex_axes(std::span<const Vec3> points, const Vec3& origin);
+
+// RAPID/OBBTree (Gottschalk et al. 1996, Gottschalk's thesis Section 3.2): eigenvectors of
+// the covariance of the triangles as continuous surfaces, i.e. the second moments integrated
+// over each triangle's area. Corners come three per triangle. When the total area is zero the
+// vertex covariance is used instead.
+[[nodiscard]] Mat3 pca_triangle_axes(std::span<const Vec3> corners, const Vec3& origin);
+
+}  // namespace tightbvh::fit_detail

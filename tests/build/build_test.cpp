@@ -1,0 +1,298 @@
+#include "tightbvh/build.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "build_test_util.hpp"
+#include "tightbvh/serialize.hpp"
+#include "tightbvh/validate_tree.hpp"
+
+namespace tightbvh {
+namespace {
+
+using test::all_fitters;
+using test::available;
+
+BuildOptions with(const Fitter& fitter, SplitMethod split = SplitMethod::rapid, std::uint32_t leaf_size = 1,
+                  unsigned threads = 2) {
+  BuildOptions options;
+  options.fitter = fitter;
+  options.split = split;
+  options.leaf_size = leaf_size;
+  options.threads = threads;
+  return options;
+}
+
+// Builds and validates; checks the stats against the tree and the options.
+void expect_valid_build(const Mesh& mesh, const BuildOptions& options, const std::string& what) {
+  SCOPED_TRACE(what + ": fitter " + to_string(options.fitter) + ", split " + std::string(to_string(options.split)) +
+               ", leaf size " + std::to_string(options.leaf_size));
+  const BuildResult result = build_with_stats(mesh, options);
+  const TreeCheck check = validate(result.tree, mesh);
+  ASSERT_TRUE(check.ok()) << check.summary();
+  const TreeStats& s = result.stats.tree;
+  EXPECT_EQ(s.nodes, result.tree.nodes.size());
+  EXPECT_EQ(s.nodes, 2 * s.leaves - 1);  // a full binary tree
+  EXPECT_GE(s.leaf_triangles_min, 1u);
+  EXPECT_LE(s.leaf_triangles_max, options.leaf_size);
+  EXPECT_NEAR(s.leaf_triangles_avg * static_cast<double>(s.leaves), static_cast<double>(mesh.triangles.size()),
+              1e-6 * static_cast<double>(mesh.triangles.size()));
+  EXPECT_EQ(s.volume_per_level.size(), s.depth_max + 1);
+  EXPECT_LE(s.depth_min, s.depth_max);
+  EXPECT_GE(result.stats.seconds, 0.0);
+}
+
+Mesh load_relative(const std::string& relative) { return load_mesh(test::source_dir() / relative); }
+
+// ------------------------------------------------------------------ every fitter, real meshes
+
+TEST(BuildValidate, EveryFitterOnShippedMeshes) {
+  for (const char* name : {"meshes/elephant.off", "meshes/knot1.off"}) {
+    const Mesh mesh = load_relative(name);
+    for (const Fitter& fitter : all_fitters()) {
+      if (!available(fitter)) continue;
+      expect_valid_build(test::first_triangles(mesh, test::triangle_budget(fitter)), with(fitter), name);
+    }
+  }
+}
+
+TEST(BuildValidate, EveryFitterOnCorpusMeshes) {
+  const std::vector<std::string> names{"cow.off", "bones.off", "couplingdown.off", "dragknob.off",
+                                       "degtri_sliding.off", "fandisk.off", "mushroom.off", "octahedron.off"};
+  const auto dir = test::source_dir() / "meshes/corpus/cgal";
+  if (!std::filesystem::exists(dir / names[0])) GTEST_SKIP() << "corpus not fetched (meshes/fetch-corpus)";
+  for (const std::string& name : names) {
+    const Mesh mesh = load_mesh(dir / name);
+    for (const Fitter& fitter : all_fitters()) {
+      if (!available(fitter)) continue;
+      expect_valid_build(test::first_triangles(mesh, test::triangle_budget(fitter)), with(fitter), name);
+    }
+  }
+}
+
+TEST(BuildValidate, EverySplitAndLeafSize) {
+  const Mesh mesh = load_relative("meshes/knot1.off");
+  for (const SplitMethod split : {SplitMethod::rapid, SplitMethod::median, SplitMethod::binned})
+    for (const std::uint32_t leaf : {1u, 2u, 3u, 8u, 100000u})
+      expect_valid_build(mesh, with(FitMethod::pca, split, leaf), "knot1");
+}
+
+TEST(BuildShape, LeafSizeOneGivesTwoNMinusOneNodes) {
+  const Mesh mesh = load_relative("meshes/elephant.off");
+  const Tree tree = build(mesh, with(FitMethod::aabb));
+  EXPECT_EQ(tree.nodes.size(), 2 * mesh.triangles.size() - 1);
+  EXPECT_EQ(tree.triangle_order.size(), mesh.triangles.size());
+}
+
+TEST(BuildShape, MedianSplitIsBalanced) {
+  const Mesh mesh = load_relative("meshes/knot1.off");  // 6400 triangles
+  const TreeStats s = build_with_stats(mesh, with(FitMethod::pca, SplitMethod::median)).stats.tree;
+  EXPECT_EQ(s.depth_max, 13u);  // ceil(log2(6400))
+  EXPECT_EQ(s.depth_min, 12u);
+}
+
+TEST(BuildShape, LeafBoxesFitTheirOwnTriangle) {
+  // A box is fitted from the node's corners (never merged from children): a leaf's box around
+  // one non-degenerate triangle is flat (one zero extent) for every fitter but aabb.
+  const Mesh mesh = load_relative("meshes/elephant.off");
+  const Tree tree = build(mesh, with(FitMethod::pca));
+  for (const Node& node : tree.nodes)
+    if (node.is_leaf()) ASSERT_LT(node.box.half_extents.minCoeff(), 1e-9 * node.box.half_extents.maxCoeff() + 1e-15);
+}
+
+TEST(BuildShape, SplitsAreRealSplits) {
+  // Every internal node's children are both non-empty, also with all centroids equal.
+  Mesh mesh;
+  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.triangles.assign(37, Triangle{0, 1, 2});
+  for (const SplitMethod split : {SplitMethod::rapid, SplitMethod::median, SplitMethod::binned}) {
+    const BuildResult r = build_with_stats(mesh, with(FitMethod::aabb, split, 2));
+    EXPECT_TRUE(validate(r.tree, mesh).ok());
+    EXPECT_EQ(r.stats.tree.depth_max, 5u) << to_string(split);  // halves by count: 37 -> 19 -> 10 -> 5 -> 3 -> 2
+  }
+}
+
+// ------------------------------------------------------------------ property tests on soups
+
+TEST(BuildProperties, RandomSoupsWithDegenerateAndDuplicatedTriangles) {
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    const std::size_t n = 50 + 97 * seed;
+    const Mesh soup = test::random_soup(n, seed, /*degenerate=*/0.2, /*duplicated=*/0.2);
+    for (const Fitter& fitter : all_fitters()) {
+      if (!available(fitter)) continue;
+      for (const SplitMethod split : {SplitMethod::rapid, SplitMethod::median, SplitMethod::binned})
+        expect_valid_build(test::first_triangles(soup, test::triangle_budget(fitter)), with(fitter, split, 1 + seed % 3),
+                           "soup " + std::to_string(seed));
+    }
+  }
+}
+
+TEST(BuildProperties, AllDegenerateSoup) {
+  const Mesh soup = test::random_soup(200, 42, /*degenerate=*/1.0, /*duplicated=*/0.3);
+  for (const Fitter& fitter : all_fitters())
+    if (available(fitter)) expect_valid_build(soup, with(fitter), "all-degenerate soup");
+}
+
+TEST(BuildProperties, SingleTriangleAndTwoTriangles) {
+  Mesh one;
+  one.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {5, 5, 5}};
+  one.triangles = {{0, 1, 2}};
+  Mesh two = one;
+  two.triangles.push_back({1, 3, 2});
+  Mesh point;  // one triangle collapsed to a point
+  point.vertices = {{3, 3, 3}};
+  point.triangles = {{0, 0, 0}};
+  for (const Fitter& fitter : all_fitters()) {
+    if (!available(fitter)) continue;
+    const Tree t1 = build(one, with(fitter));
+    ASSERT_EQ(t1.nodes.size(), 1u);
+    EXPECT_EQ(t1.nodes[0].count, 1u);
+    EXPECT_TRUE(validate(t1, one).ok()) << validate(t1, one).summary();
+    const Tree t2 = build(two, with(fitter));
+    ASSERT_EQ(t2.nodes.size(), 3u);
+    EXPECT_EQ(t2.nodes[0].first, 1u);
+    EXPECT_TRUE(validate(t2, two).ok()) << validate(t2, two).summary();
+    const Tree t3 = build(point, with(fitter));
+    EXPECT_TRUE(validate(t3, point).ok()) << validate(t3, point).summary();
+  }
+}
+
+TEST(BuildProperties, RejectsBadInput) {
+  EXPECT_THROW((void)build(Mesh{}), InputError);
+  Mesh nan = test::random_soup(3, 1);
+  nan.vertices[1].x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW((void)build(nan, with(FitMethod::aabb)), InputError);
+  EXPECT_THROW((void)build(test::random_soup(3, 1), with(FitMethod::aabb, SplitMethod::rapid, 0)), InputError);
+}
+
+TEST(BuildProperties, BuildDoesNotDependOnTriangleStorageBeyondOrder) {
+  // Pure: the same input twice gives the same tree.
+  const Mesh mesh = test::random_soup(500, 9, 0.1, 0.1);
+  const auto a = serialize(build(mesh, with(FitMethod::pca)));
+  const auto b = serialize(build(mesh, with(FitMethod::pca)));
+  EXPECT_EQ(a, b);
+}
+
+// ------------------------------------------------------------------ determinism
+
+bool same_nodes(const Tree& a, const Tree& b) {
+  return a.nodes.size() == b.nodes.size() && a.triangle_order == b.triangle_order &&
+         std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(Node)) == 0;
+}
+
+TEST(BuildDeterminism, SameTreeForAnyThreadCount) {
+  static_assert(sizeof(Node) == 128, "no padding: Node compares byte-wise");
+  // Large enough that the top levels run level-parallel and the subtrees as separate tasks.
+  const Mesh mesh = test::random_soup(20000, 5, 0.05, 0.05);
+  const Mesh knot = load_relative("meshes/knot1.off");
+  std::vector<Fitter> fitters{FitMethod::aabb, FitMethod::pca, AutoFit{}};
+  for (const Fitter& fitter : fitters) {
+    if (!available(fitter)) continue;
+    for (const SplitMethod split : {SplitMethod::rapid, SplitMethod::binned}) {
+      for (const Mesh* m : {&mesh, &knot}) {
+        const Tree one = build(*m, with(fitter, split, 1, 1));
+        for (const unsigned threads : {2u, 4u, 7u}) {
+          const Tree many = build(*m, with(fitter, split, 1, threads));
+          EXPECT_TRUE(same_nodes(one, many)) << to_string(fitter) << " " << to_string(split) << " threads " << threads;
+        }
+      }
+    }
+  }
+}
+
+// ------------------------------------------------------------------ stats and options
+
+TEST(BuildStatsTest, VolumesAddUp) {
+  const Mesh mesh = load_relative("meshes/elephant.off");
+  const BuildResult r = build_with_stats(mesh, with(FitMethod::pca));
+  double sum = 0.0;
+  for (const Node& node : r.tree.nodes) sum += node.box.volume();
+  double levels = 0.0;
+  for (const double v : r.stats.tree.volume_per_level) levels += v;
+  EXPECT_NEAR(r.stats.tree.sum_volume, sum, 1e-9 * sum);
+  EXPECT_NEAR(levels, sum, 1e-9 * sum);
+  EXPECT_DOUBLE_EQ(r.stats.tree.volume_per_level[0], r.tree.nodes[0].box.volume());
+  EXPECT_EQ(r.stats.tree.bytes, r.tree.nodes.size() * 128 + mesh.triangles.size() * 4);
+}
+
+TEST(BuildOptionsTest, ParseFitter) {
+  EXPECT_EQ(parse_fitter("auto"), Fitter{AutoFit{}});
+  EXPECT_EQ(parse_fitter("pca-vertex"), Fitter{FitMethod::pca_vertex});
+  EXPECT_EQ(parse_fitter("approx"), Fitter{FitMethod::approx});
+  EXPECT_FALSE(parse_fitter("fastest"));
+  EXPECT_EQ(to_string(Fitter{AutoFit{}}), "auto");
+  EXPECT_EQ(to_string(Fitter{FitMethod::exact}), "exact");
+  EXPECT_EQ(parse_split_method("binned"), SplitMethod::binned);
+  EXPECT_EQ(parse_split_method("sah"), SplitMethod::binned);
+  EXPECT_EQ(parse_split_method("median"), SplitMethod::median);
+  EXPECT_FALSE(parse_split_method("middle"));
+}
+
+TEST(BuildOptionsTest, AutoUsesTightFitterAboveThreshold) {
+  // auto with tight = aabb, cheap = pca: nodes at or above the threshold are axis-aligned.
+  const Mesh mesh = load_relative("meshes/elephant.off");
+  AutoFit policy{.tight_min_triangles = 100, .tight = FitMethod::aabb, .cheap = FitMethod::pca};
+  const Tree tree = build(mesh, with(policy));
+  ASSERT_TRUE(validate(tree, mesh).ok());
+  EXPECT_TRUE(tree.nodes[0].box.axes.isIdentity());
+  std::size_t rotated = 0;
+  for (const Node& node : tree.nodes)
+    if (!node.box.axes.isIdentity()) ++rotated;
+  EXPECT_GT(rotated, tree.nodes.size() / 2);  // most nodes are small: pca
+}
+
+// ------------------------------------------------------------------ validate finds problems
+
+TEST(ValidateTree, NamesTheBrokenNode) {
+  const Mesh mesh = load_relative("meshes/elephant.off");
+  const Tree good = build(mesh, with(FitMethod::pca));
+  ASSERT_TRUE(validate(good, mesh).ok());
+
+  Tree shrunk = good;
+  shrunk.nodes[5].box.half_extents *= 0.5;
+  TreeCheck c = validate(shrunk, mesh);
+  ASSERT_FALSE(c.ok());
+  EXPECT_NE(c.errors[0].find("node 5 "), std::string::npos) << c.errors[0];
+  EXPECT_NE(c.errors[0].find("does not contain"), std::string::npos) << c.errors[0];
+
+  Tree duplicate = good;
+  duplicate.triangle_order[3] = duplicate.triangle_order[4];
+  c = validate(duplicate, mesh);
+  ASSERT_FALSE(c.ok());
+  EXPECT_NE(c.summary().find("more than once"), std::string::npos) << c.summary();
+
+  Tree out_of_range = good;
+  out_of_range.nodes[0].first = static_cast<std::uint32_t>(good.nodes.size() - 1);
+  c = validate(out_of_range, mesh);
+  ASSERT_FALSE(c.ok());
+  EXPECT_NE(c.errors[0].find("node 0: children"), std::string::npos) << c.errors[0];
+
+  Tree cycle = good;
+  const std::uint32_t child = cycle.nodes[0].first;
+  ASSERT_FALSE(cycle.nodes[child].is_leaf());
+  cycle.nodes[child].first = 0;
+  c = validate(cycle, mesh);
+  ASSERT_FALSE(c.ok());
+  EXPECT_NE(c.summary().find("reached twice"), std::string::npos) << c.summary();
+
+  Tree bad_leaf = good;
+  for (Node& node : bad_leaf.nodes)
+    if (node.is_leaf()) {
+      node.first = static_cast<std::uint32_t>(mesh.triangles.size());
+      break;
+    }
+  EXPECT_FALSE(validate(bad_leaf, mesh).ok());
+
+  Tree skewed = good;
+  skewed.nodes[2].box.axes(0, 1) += 0.1;
+  c = validate(skewed, mesh);
+  ASSERT_FALSE(c.ok());
+  EXPECT_NE(c.errors[0].find("node 2: box axes are not orthonormal"), std::string::npos) << c.errors[0];
+
+  EXPECT_FALSE(validate(good, test::first_triangles(mesh, 100)).ok());  // another mesh
+  EXPECT_FALSE(validate(Tree{}, mesh).ok());
+}
+
+}  // namespace
+}  // namespace tightbvh

@@ -1,0 +1,131 @@
+// Tests of the AABB and PCA fitters (src/fit/pca.cpp, src/fit/fit.cpp).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "test_util.hpp"
+
+namespace tightbvh {
+namespace {
+
+using test::valid_box_containing;
+
+const FitMethod kSimple[] = {FitMethod::aabb, FitMethod::pca, FitMethod::pca_vertex};
+
+TEST(FitSimple, ContainsRandomPoints) {
+  for (FitMethod m : kSimple)
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+      const auto points = test::gaussian_points(5 + 13 * seed, seed);
+      EXPECT_TRUE(valid_box_containing(fit_points(points, {.method = m}), points)) << to_string(m) << " seed " << seed;
+      const std::size_t usable = points.size() / 3 * 3;
+      const std::span<const Vec3> corners(points.data(), usable);
+      EXPECT_TRUE(valid_box_containing(fit_triangles(corners, {.method = m}), corners)) << to_string(m);
+    }
+}
+
+TEST(FitSimple, ContainsShippedMeshes) {
+  for (const char* name : {"meshes/elephant.off", "meshes/knot1.off"}) {
+    const auto corners = test::mesh_corners(name);
+    ASSERT_FALSE(corners.empty()) << name;
+    for (FitMethod m : kSimple) {
+      const Obb box = fit_triangles(corners, {.method = m});
+      EXPECT_TRUE(valid_box_containing(box, corners)) << to_string(m) << " " << name;
+      EXPECT_GT(box.volume(), 0.0);
+    }
+  }
+}
+
+TEST(FitSimple, AabbIsTheBoundingBox) {
+  const std::vector<Vec3> points{{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, 3}};
+  const Obb box = fit_points(points, {.method = FitMethod::aabb});
+  EXPECT_DOUBLE_EQ(box.volume(), 6.0);
+  EXPECT_TRUE(box.axes.isIdentity());
+}
+
+TEST(FitSimple, PcaRecoversElongatedAxis) {
+  // Points spread along a rotated direction: the first PCA axis must follow it.
+  std::mt19937_64 rng(7);
+  const Mat3 r = test::random_rotation(rng);
+  auto points = test::gaussian_points(500, 3, Vec3(10, 1, 0.1));
+  for (auto& p : points) p = r * p;
+  for (FitMethod m : {FitMethod::pca, FitMethod::pca_vertex}) {
+    const Obb box = fit_points(points, {.method = m});
+    EXPECT_GT(std::abs(box.axes.col(0).dot(r.col(0))), 0.999) << to_string(m);
+  }
+}
+
+TEST(FitSimple, PcaAreaWeightingDiffersFromVertexCovariance) {
+  // A long thin rectangle made of two big triangles plus many tiny triangles clustered at one
+  // end along a perpendicular direction: the vertex covariance is dominated by the cluster,
+  // the area-weighted one by the big triangles.
+  std::vector<Vec3> corners{{-10, -0.5, 0}, {10, -0.5, 0}, {10, 0.5, 0}, {-10, -0.5, 0}, {10, 0.5, 0}, {-10, 0.5, 0}};
+  for (int i = 0; i < 200; ++i) {
+    const double y = -3.0 + 6.0 * i / 199.0;
+    corners.push_back({0, y, 0});
+    corners.push_back({1e-3, y, 0});
+    corners.push_back({0, y + 1e-3, 0});
+  }
+  const Obb area = fit_triangles(corners, {.method = FitMethod::pca});
+  const Obb vertex = fit_triangles(corners, {.method = FitMethod::pca_vertex});
+  EXPECT_GT(std::abs(area.axes.col(0).x()), 0.999);
+  EXPECT_GT(std::abs(vertex.axes.col(0).y()), 0.999);
+  EXPECT_TRUE(valid_box_containing(area, corners));
+  EXPECT_TRUE(valid_box_containing(vertex, corners));
+}
+
+TEST(FitSimple, RejectsNonFiniteAndEmpty) {
+  for (FitMethod m : kSimple) {
+    std::vector<Vec3> points{{0, 0, 0}, {1, std::numeric_limits<double>::quiet_NaN(), 0}, {0, 0, 1}};
+    EXPECT_THROW((void)fit_points(points, {.method = m}), InputError);
+    points[1].y() = std::numeric_limits<double>::infinity();
+    EXPECT_THROW((void)fit_triangles(points, {.method = m}), InputError);
+    EXPECT_THROW((void)fit_points(std::span<const Vec3>{}, {.method = m}), InputError);
+  }
+  const std::vector<Vec3> two{{0, 0, 0}, {1, 1, 1}};
+  EXPECT_THROW((void)fit_triangles(two, {.method = FitMethod::aabb}), InputError);
+}
+
+TEST(FitSimple, DegenerateInputsGiveFiniteZeroVolumeBoxes) {
+  const std::vector<std::vector<Vec3>> sets{
+      {{1, 2, 3}},
+      {{1, 2, 3}, {1, 2, 3}, {1, 2, 3}},
+      {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {0.5, 0.5, 0.5}},
+      {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.3, 0.2, 0}},
+  };
+  for (FitMethod m : kSimple)
+    for (const auto& s : sets) {
+      const Obb box = fit_points(s, {.method = m});
+      EXPECT_TRUE(valid_box_containing(box, s)) << to_string(m);
+      // The AABB of a diagonal segment is a genuine box; every other set is flat.
+      if (m != FitMethod::aabb || &s != &sets[2]) EXPECT_NEAR(box.volume(), 0.0, 1e-12) << to_string(m);
+    }
+}
+
+TEST(FitSimple, FarFromOriginKeepsContainment) {
+  auto points = test::gaussian_points(300, 11);
+  for (auto& p : points) p += Vec3(1e6, -1e6, 1e6);
+  for (FitMethod m : kSimple) EXPECT_TRUE(valid_box_containing(fit_points(points, {.method = m}), points));
+}
+
+TEST(FitSimple, WorkspaceReuseGivesSameBoxes) {
+  FitWorkspace ws;
+  for (std::uint64_t seed = 1; seed < 5; ++seed) {
+    const auto points = test::gaussian_points(30 * seed, seed);
+    for (FitMethod m : kSimple) {
+      const Obb a = fit_points(points, {.method = m}, ws);
+      const Obb b = fit_points(points, {.method = m});
+      EXPECT_EQ(a.volume(), b.volume());
+    }
+  }
+}
+
+TEST(FitNames, RoundTrip) {
+  for (FitMethod m : {FitMethod::aabb, FitMethod::pca, FitMethod::pca_vertex, FitMethod::diameter, FitMethod::approx,
+                      FitMethod::approx_snap, FitMethod::exact})
+    EXPECT_EQ(parse_fit_method(to_string(m)), m);
+  EXPECT_FALSE(parse_fit_method("nope").has_value());
+}
+
+}  // namespace
+}  // namespace tightbvh

@@ -40,70 +40,65 @@ struct Answers {
   std::vector<std::vector<Pair>> pairs;   // per pose, sorted; empty in first_hit mode
 };
 
-struct Measurement {
-  double seconds = 0;       // median time of one pass over all poses
-  int repetitions = 0;
-  Answers answers;
-};
-
 // An adapter A provides:
 //   bool first_hit(const Pose& b_in_a);                       // any touching pair?
 //   void all_pairs(const Pose& b_in_a, std::vector<Pair>& out); // appends every pair found
 // Pose = the rigid transform applied to B's vertices in A's frame (A at identity).
+
+// The untimed pass whose answers are checked (it is also the warm-up).
 template <class A>
-[[nodiscard]] Measurement measure(A& adapter, Mode mode, std::span<const Pose> poses,
-                                  const TimingOptions& timing,
-                                  const std::function<void(double)>& progress = {}) {
-  using Clock = std::chrono::steady_clock;
-  Measurement m;
-  // Warm-up pass, also the one whose answers are checked (untimed).
-  m.answers.hit.resize(poses.size());
-  if (mode == Mode::all_pairs) m.answers.pairs.resize(poses.size());
-  std::vector<Pair> scratch;
+[[nodiscard]] Answers answer_all(A& adapter, Mode mode, std::span<const Pose> poses) {
+  Answers out;
+  out.hit.resize(poses.size());
+  if (mode == Mode::all_pairs) out.pairs.resize(poses.size());
   for (std::size_t i = 0; i < poses.size(); ++i) {
     if (mode == Mode::first_hit) {
-      m.answers.hit[i] = adapter.first_hit(poses[i]) ? 1 : 0;
+      out.hit[i] = adapter.first_hit(poses[i]) ? 1 : 0;
     } else {
-      auto& out = m.answers.pairs[i];
-      adapter.all_pairs(poses[i], out);
-      std::sort(out.begin(), out.end());
-      out.erase(std::unique(out.begin(), out.end()), out.end());
-      m.answers.hit[i] = out.empty() ? 0 : 1;
+      auto& pairs = out.pairs[i];
+      adapter.all_pairs(poses[i], pairs);
+      std::sort(pairs.begin(), pairs.end());
+      pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+      out.hit[i] = pairs.empty() ? 0 : 1;
     }
   }
-  std::vector<double> times;
-  double spent = 0;
+  return out;
+}
+
+// One timed pass over all poses; returns seconds.
+template <class A>
+[[nodiscard]] double timed_pass(A& adapter, Mode mode, std::span<const Pose> poses, std::vector<Pair>& scratch) {
+  using Clock = std::chrono::steady_clock;
   std::size_t sink = 0;  // keeps the optimiser from dropping the queries
-  for (int r = 0; r < timing.repetitions; ++r) {
-    const auto t0 = Clock::now();
-    if (mode == Mode::first_hit) {
-      for (const Pose& p : poses) sink += adapter.first_hit(p) ? 1 : 0;
-    } else {
-      for (const Pose& p : poses) {
-        scratch.clear();
-        adapter.all_pairs(p, scratch);
-        sink += scratch.size();
-      }
+  const auto t0 = Clock::now();
+  if (mode == Mode::first_hit) {
+    for (const Pose& p : poses) sink += adapter.first_hit(p) ? 1 : 0;
+  } else {
+    for (const Pose& p : poses) {
+      scratch.clear();
+      adapter.all_pairs(p, scratch);
+      sink += scratch.size();
     }
-    const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
-    times.push_back(dt);
-    spent += dt;
-    if (progress) progress(double(r + 1) / timing.repetitions);
-    if (spent > timing.budget_seconds) break;
   }
-  std::sort(times.begin(), times.end());
-  m.seconds = times[times.size() / 2];
-  m.repetitions = int(times.size());
-  if (sink == std::size_t(-1)) m.seconds += 0;  // never true; reads `sink`
-  return m;
+  const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+  volatile std::size_t keep = sink;
+  (void)keep;
+  return dt;
+}
+
+[[nodiscard]] inline double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 // A built engine, type-erased for the driver (one virtual call per whole measurement).
 class Prepared {
  public:
   virtual ~Prepared() = default;
-  [[nodiscard]] virtual Measurement run(Mode mode, std::span<const Pose> poses, const TimingOptions& timing,
-                                        const std::function<void(double)>& progress) = 0;
+  [[nodiscard]] virtual Answers answer(Mode mode, std::span<const Pose> poses) = 0;
+  [[nodiscard]] virtual double pass(Mode mode, std::span<const Pose> poses) = 0;
   // Engine-specific counts worth reporting (e.g. contacts without a triangle pair).
   [[nodiscard]] virtual std::string stats() const { return {}; }
   double build_seconds = 0;
@@ -113,10 +108,8 @@ template <class A>
 class PreparedAdapter final : public Prepared {
  public:
   explicit PreparedAdapter(std::unique_ptr<A> adapter) : adapter_(std::move(adapter)) {}
-  Measurement run(Mode mode, std::span<const Pose> poses, const TimingOptions& timing,
-                  const std::function<void(double)>& progress) override {
-    return measure(*adapter_, mode, poses, timing, progress);
-  }
+  Answers answer(Mode mode, std::span<const Pose> poses) override { return answer_all(*adapter_, mode, poses); }
+  double pass(Mode mode, std::span<const Pose> poses) override { return timed_pass(*adapter_, mode, poses, scratch_); }
   std::string stats() const override {
     if constexpr (requires(const A& a) { a.stats(); }) return adapter_->stats();
     else return {};
@@ -124,6 +117,7 @@ class PreparedAdapter final : public Prepared {
 
  private:
   std::unique_ptr<A> adapter_;
+  std::vector<Pair> scratch_;
 };
 
 // Runs `make` (which builds both trees and returns std::unique_ptr<Adapter>), timing it.

@@ -143,7 +143,7 @@ int main(int argc, char** argv) {
     progress.show("building the reference", 0);
     const tb::Reference reference(input);
     tb::RunInfo info{input.name_a, input.name_b, poses_file.empty() ? scenario_arg : "file", reference.description(),
-                     input.a.triangles.size(), input.b.triangles.size(), poses, seed, {}};
+                     input.a.triangles.size(), input.b.triangles.size(), poses, seed, tolerance, repetitions, {}};
     for (const auto& e : engines)
       if (!e.note.empty()) info.notes.push_back(e.name + ": " + e.note);
 
@@ -151,7 +151,6 @@ int main(int argc, char** argv) {
     std::set<std::string> failed;
     std::vector<tb::Row> rows;
     std::vector<Pose> written;
-    const tb::TimingOptions timing{repetitions, budget};
     for (const auto& scenario : scenarios) {
       const std::string sname = scenario ? std::string(tb::to_string(*scenario)) : "file";
       progress.show(sname + ": poses", 0);
@@ -166,6 +165,16 @@ int main(int argc, char** argv) {
         ref_pairs[i] = reference.pairs(ps[i]);
         progress.show(sname + ": reference", double(i + 1) / ps.size());
       }
+      // Build (once per engine), then the checked warm-up pass of every engine and mode.
+      struct Job {
+        const tb::EngineInfo* info;
+        tb::Prepared* engine;
+        tb::Mode mode;
+        tb::Answers answers;
+        std::vector<double> times;
+        double spent = 0;
+      };
+      std::vector<Job> jobs;
       for (const auto& e : engines) {
         if (failed.count(e.name)) continue;
         if (!built.count(e.name)) {
@@ -178,19 +187,33 @@ int main(int argc, char** argv) {
             continue;
           }
         }
-        tb::Prepared& engine = *built[e.name];
         for (tb::Mode mode : modes) {
           if ((mode == tb::Mode::first_hit && !e.first_hit) || (mode == tb::Mode::all_pairs && !e.all_pairs)) continue;
-          const std::string label = sname + ": " + e.name + " " + tb::to_string(mode);
-          const tb::Measurement m = engine.run(mode, ps, timing, [&](double f) { progress.show(label, f); });
-          tb::Row row{sname, e.name, mode, engine.build_seconds, ps.size(), m.seconds, m.repetitions, 0, 0, {}, {}};
-          for (std::size_t i = 0; i < ps.size(); ++i) {
-            row.hits += m.answers.hit[i];
-            if (mode == tb::Mode::all_pairs) row.pairs += m.answers.pairs[i].size();
-          }
-          row.agreement = tb::compare(input, mode, m.answers, ref_pairs, ps, tolerance);
-          rows.push_back(std::move(row));
+          progress.show(sname + ": " + e.name + " " + tb::to_string(mode) + " (checked pass)", 0);
+          jobs.push_back({&e, built[e.name].get(), mode, built[e.name]->answer(mode, ps), {}, 0});
         }
+      }
+      // Timed passes round-robin over the engines, so that load from elsewhere on the machine
+      // hits every engine alike; an engine stops adding passes once its budget is spent.
+      for (int r = 0; r < repetitions; ++r) {
+        for (std::size_t j = 0; j < jobs.size(); ++j) {
+          Job& job = jobs[j];
+          if (r > 0 && job.spent > budget) continue;
+          progress.show(sname + ": timing", (double(r) * jobs.size() + j + 1) / (double(repetitions) * jobs.size()));
+          const double dt = job.engine->pass(job.mode, ps);
+          job.times.push_back(dt);
+          job.spent += dt;
+        }
+      }
+      for (Job& job : jobs) {
+        tb::Row row{sname, job.info->name, job.mode, job.engine->build_seconds, ps.size(), tb::median(job.times),
+                    int(job.times.size()), 0, 0, {}, {}};
+        for (std::size_t i = 0; i < ps.size(); ++i) {
+          row.hits += job.answers.hit[i];
+          if (job.mode == tb::Mode::all_pairs) row.pairs += job.answers.pairs[i].size();
+        }
+        row.agreement = tb::compare(input, job.mode, job.answers, ref_pairs, ps, tolerance);
+        rows.push_back(std::move(row));
       }
       // The reference itself, for the hit and pair counts every engine is compared to.
       tb::Row ref_row{sname, "reference", tb::Mode::all_pairs, 0, ps.size(), 0, 0, 0, 0, {}, {}};

@@ -43,11 +43,57 @@ std::string agreement_text(const Row& r) {
   return s;
 }
 
+namespace {
+
+// The targets, per scenario and mode: best tightbvh-* >= 2x FCL's best BV type, and
+// fcl-export-approx faster than fcl-obb. Printed whether met or not.
+void print_verdict(std::ostream& out, const std::vector<Row>& rows) {
+  std::map<std::pair<std::string, Mode>, std::pair<const Row*, const Row*>> best;  // (ours, fcl)
+  std::map<std::pair<std::string, Mode>, std::pair<const Row*, const Row*>> exported;  // (export-approx, fcl-obb)
+  std::vector<std::pair<std::string, Mode>> keys;
+  for (const Row& r : rows) {
+    const auto key = std::make_pair(r.scenario, r.mode);
+    if (!best.count(key) && r.engine != "reference") keys.push_back(key);
+    auto& [ours, fcl] = best[key];
+    if (r.engine.rfind("tightbvh-", 0) == 0 && (!ours || r.qps() > ours->qps())) ours = &r;
+    if ((r.engine == "fcl-obb" || r.engine == "fcl-obbrss") && (!fcl || r.qps() > fcl->qps())) fcl = &r;
+    if (r.engine == "fcl-export-approx") exported[key].first = &r;
+    if (r.engine == "fcl-obb") exported[key].second = &r;
+  }
+  char line[256];
+  bool header = false;
+  for (const auto& key : keys) {
+    const auto [ours, fcl] = best[key];
+    if (!ours || !fcl || fcl->qps() <= 0) continue;
+    if (!header) {
+      out << "\ntargets (best tightbvh-* vs FCL's best BV type, same poses):\n";
+      header = true;
+    }
+    const double ratio = ours->qps() / fcl->qps();
+    std::snprintf(line, sizeof line, "  %-10s %-9s %-16s %10.1f q/s vs %-10s %10.1f q/s = %5.2fx  %s\n",
+                  key.first.c_str(), to_string(key.second), ours->engine.c_str(), ours->qps(), fcl->engine.c_str(),
+                  fcl->qps(), ratio, ratio >= 2.0 ? "target 2x met" : "target 2x NOT met");
+    out << line;
+  }
+  for (const auto& key : keys) {
+    const auto [ex, obb] = exported[key];
+    if (!ex || !obb || obb->qps() <= 0) continue;
+    const double ratio = ex->qps() / obb->qps();
+    std::snprintf(line, sizeof line, "  %-10s %-9s fcl-export-approx vs fcl-obb = %5.2fx  %s\n", key.first.c_str(),
+                  to_string(key.second), ratio, ratio > 1.0 ? "faster: target met" : "NOT faster: target not met");
+    out << line;
+  }
+}
+
+}  // namespace
+
 void print_table(std::ostream& out, const RunInfo& info, const std::vector<Row>& rows) {
   char line[512];
   out << "tightbvh-bench: A = " << info.mesh_a << " (" << info.triangles_a << " triangles), B = " << info.mesh_b
       << " (" << info.triangles_b << " triangles), " << info.poses << " poses per scenario, seed " << info.seed
-      << "\nreference: " << info.reference << "\n";
+      << "\nreference: " << info.reference << "\nnear-touching: differing pairs within " << info.tolerance
+      << " (1e-9 x the larger AABB diagonal) of touching; queries/s: median of up to " << info.repetitions
+      << " timed passes after a warm-up pass\n";
   std::string scenario;
   for (const Row& r : rows) {
     if (r.scenario != scenario) {
@@ -69,6 +115,7 @@ void print_table(std::ostream& out, const RunInfo& info, const std::vector<Row>&
                   r.mode == Mode::all_pairs ? std::to_string(r.pairs).c_str() : "-", agreement_text(r).c_str());
     out << line;
   }
+  print_verdict(out, rows);
   if (!info.notes.empty()) {
     out << "\nnotes:\n";
     for (const auto& n : info.notes) out << "  " << n << "\n";

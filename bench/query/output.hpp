@@ -31,6 +31,8 @@ struct RunInfo {
   std::size_t triangles_a = 0, triangles_b = 0;
   int poses = 0;           // per scenario
   std::uint64_t seed = 0;
+  double tolerance = 0;
+  int repetitions = 0;
   std::vector<std::string> notes;  // per-engine limitations
 };
 

@@ -1,12 +1,15 @@
 #include "tightbvh/fit.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
 
+#include "fitters.hpp"
 #include "frame.hpp"
 #include "pca.hpp"
 #include "tightbvh/mesh.hpp"
+#include "tightbvh/min_rect.hpp"
 #include "workspace.hpp"
 
 namespace tightbvh {
@@ -22,6 +25,9 @@ constexpr std::array<std::pair<FitMethod, std::string_view>, 7> kNames{{
     {FitMethod::exact, "exact"},
 }};
 
+// approx-snap's default epsilon when none is given.
+constexpr double kDefaultSnapEpsilon = 0.1;
+
 void check_finite(std::span<const Vec3> points) {
   if (points.empty()) throw InputError("fit: empty point set");
   for (std::size_t i = 0; i < points.size(); ++i)
@@ -29,23 +35,94 @@ void check_finite(std::span<const Vec3> points) {
       throw InputError("fit: point " + std::to_string(i) + " is not finite (NaN or Inf coordinate)");
 }
 
+// Planar, collinear and single-point sets: a zero-volume box (the thickness is whatever the
+// points have), with the minimum-area rectangle in the plane for planar sets.
+Mat3 degenerate_axes(const ConvexHull3& hull, std::vector<Vec2>& polygon) {
+  if (hull.dimension <= 0 || hull.vertices.size() < 2) return Mat3::Identity();
+  if (hull.dimension == 1) return fit_detail::frame_from_axis(hull.vertices[1] - hull.vertices[0]);
+  const Mat3 frame = fit_detail::frame_from_axis(hull.plane_normal);
+  const Vec3 u = frame.col(1), w = frame.col(2);
+  polygon.clear();
+  for (const Vec3& p : hull.vertices) polygon.emplace_back(u.dot(p - hull.vertices[0]), w.dot(p - hull.vertices[0]));
+  const std::size_t m = convex_hull_2d(polygon);
+  const Rect2 rect = min_area_rect(std::span<const Vec2>(polygon.data(), m));
+  Mat3 axes;
+  axes.col(0) = rect.axis.x() * u + rect.axis.y() * w;
+  axes.col(1) = -rect.axis.y() * u + rect.axis.x() * w;
+  axes.col(2) = frame.col(0);
+  return fit_detail::orthonormalize(axes);
+}
+
+// ApproxMinVolBbx (Section 6.3, Fig. 6.2): snap the hull vertices to the 8 corners of their
+// cell of G = Grid(B_eps / 2), B_eps = (eps / 200) B*(S), then the exact box of the snapped hull.
+Mat3 snap_axes(FitWorkspace::Scratch& s, double epsilon) {
+  using namespace fit_detail;
+  const AxisBox bstar = diameter_box(s.geometry, s.bopt);
+  const Vec3 cell = (bstar.hi - bstar.lo) * (epsilon / 400.0);
+  s.cells.clear();
+  for (const Vec3& p : s.geometry.local) {
+    const Vec3 q = (bstar.axes.transpose() * p - bstar.lo).cwiseQuotient(cell);
+    const std::array<std::int64_t, 3> base{static_cast<std::int64_t>(std::floor(q.x())),
+                                           static_cast<std::int64_t>(std::floor(q.y())),
+                                           static_cast<std::int64_t>(std::floor(q.z()))};
+    for (int c = 0; c < 8; ++c) s.cells.push_back({base[0] + (c & 1), base[1] + ((c >> 1) & 1), base[2] + ((c >> 2) & 1)});
+  }
+  std::sort(s.cells.begin(), s.cells.end());
+  s.cells.erase(std::unique(s.cells.begin(), s.cells.end()), s.cells.end());
+  s.snapped.clear();
+  for (const auto& c : s.cells) {
+    const Vec3 q = bstar.lo + Vec3(static_cast<double>(c[0]), static_cast<double>(c[1]), static_cast<double>(c[2])).cwiseProduct(cell);
+    s.snapped.push_back(bstar.axes * q);
+  }
+  convex_hull(s.snapped, s.snap_hull, s.hull_workspace);
+  if (s.snap_hull.dimension < 3) return bstar.axes;
+  s.snap_geometry.reset(s.snap_hull, Vec3::Zero());
+  return exact_box(s.snap_geometry, s.exact, s.snap_bopt).axes;
+}
+
 Obb fit_checked(std::span<const Vec3> points, std::span<const Vec3> triangle_corners, const FitOptions& options,
                 FitWorkspace& workspace) {
-  auto& scratch = workspace.scratch();
-  scratch.last_hull_vertices = 0;
-  const Vec3 origin = fit_detail::local_origin(points);
+  using namespace fit_detail;
+  auto& s = workspace.scratch();
+  s.last_hull_vertices = 0;
+  const Vec3 origin = local_origin(points);
   switch (options.method) {
     case FitMethod::aabb:
       return to_obb(bounds_of(points));
     case FitMethod::pca:
       if (!triangle_corners.empty())
-        return fit_detail::box_with_axes(points, fit_detail::pca_triangle_axes(triangle_corners, origin), origin);
+        return box_with_axes(points, pca_triangle_axes(triangle_corners, origin), origin);
       [[fallthrough]];
     case FitMethod::pca_vertex:
-      return fit_detail::box_with_axes(points, fit_detail::pca_vertex_axes(points, origin), origin);
+      return box_with_axes(points, pca_vertex_axes(points, origin), origin);
     default:
-      throw std::logic_error("fit method not implemented yet: " + std::string(to_string(options.method)));
+      break;
   }
+  // Hull-based methods.
+  convex_hull(points, s.hull, s.hull_workspace);
+  s.last_hull_vertices = s.hull.vertices.size();
+  if (s.hull.dimension < 3) return box_with_axes(points, degenerate_axes(s.hull, s.polygon), origin);
+  s.geometry.reset(s.hull, origin);
+  Mat3 axes;
+  switch (options.method) {
+    case FitMethod::diameter:
+      axes = diameter_box(s.geometry, s.bopt).axes;
+      break;
+    case FitMethod::approx: {
+      const int k = options.epsilon ? grid_for_epsilon(*options.epsilon) : options.grid;
+      axes = grid_search(s.geometry, diameter_box(s.geometry, s.bopt), k, options.improve, s.bopt).axes;
+      break;
+    }
+    case FitMethod::approx_snap:
+      axes = snap_axes(s, options.epsilon.value_or(kDefaultSnapEpsilon));
+      break;
+    case FitMethod::exact:
+      axes = exact_box(s.geometry, s.exact, s.bopt).axes;
+      break;
+    default:
+      throw std::logic_error("fit: unknown method");
+  }
+  return box_with_axes(points, orthonormalize(axes), origin);
 }
 
 }  // namespace

@@ -3,12 +3,26 @@
 #include <cstddef>
 #include <vector>
 
+#include "fitters.hpp"
 #include "tightbvh/fit.hpp"
+#include "tightbvh/hull.hpp"
 
 namespace tightbvh {
 
 struct FitWorkspace::Scratch {
   std::size_t last_hull_vertices = 0;
+  ConvexHull3 hull;
+  HullWorkspace hull_workspace;
+  fit_detail::HullGeometry geometry;
+  fit_detail::BoptScratch bopt;
+  fit_detail::ExactScratch exact;
+  std::vector<Vec2> polygon;
+  // approx-snap: the hull of the snapped points
+  std::vector<Vec3> snapped;
+  std::vector<std::array<std::int64_t, 3>> cells;
+  ConvexHull3 snap_hull;
+  fit_detail::HullGeometry snap_geometry;
+  fit_detail::BoptScratch snap_bopt;
 };
 
 }  // namespace tightbvh

@@ -1,0 +1,66 @@
+#pragma once
+// Convex hulls: the 3D hull of a point set (with the edge/face graph the fitters walk), and
+// the 2D hull of a planar point set (Andrew's monotone chain).
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "tightbvh/pose.hpp"
+
+namespace tightbvh {
+
+using Vec2 = Eigen::Vector2d;
+
+// An edge of a 3D hull: its two end vertices and the two faces that share it.
+struct HullEdge {
+  std::array<std::uint32_t, 2> vertex{};
+  std::array<std::uint32_t, 2> face{};
+};
+
+// The convex hull of a 3D point set. `dimension` is the affine dimension of the input
+// (0 point, 1 segment, 2 planar, 3 solid). For dimension 3 the hull is a triangulated
+// closed polyhedron (coplanar facets are split into triangles, which share one normal);
+// for lower dimensions only `vertices` is filled (for dimension 2: the polygon, in order;
+// for 1: the two end points; for 0: one point) and `plane_normal` is set for dimension 2.
+struct ConvexHull3 {
+  int dimension = 0;
+  std::vector<Vec3> vertices;                        // copies of input points
+  std::vector<std::uint32_t> input_index;            // vertices[i] == points[input_index[i]]
+  std::vector<std::array<std::uint32_t, 3>> faces;   // vertex indices
+  std::vector<Vec3> face_normals;                    // unit, outward
+  std::vector<HullEdge> edges;
+  std::vector<std::uint32_t> neighbor_offsets;       // CSR vertex adjacency: neighbors of v are
+  std::vector<std::uint32_t> neighbors;              // neighbors[neighbor_offsets[v] .. [v+1])
+  Vec3 plane_normal = Vec3::UnitZ();                 // dimension 2 only
+
+  void clear();
+};
+
+// Reusable state of the hull computation (qhull's context and coordinate buffers).
+class HullWorkspace {
+ public:
+  HullWorkspace();
+  ~HullWorkspace();
+  HullWorkspace(HullWorkspace&&) noexcept;
+  HullWorkspace& operator=(HullWorkspace&&) noexcept;
+  struct State;
+  [[nodiscard]] State& state() { return *state_; }
+
+ private:
+  std::unique_ptr<State> state_;
+};
+
+// The convex hull of finite points (duplicates, coplanar and collinear sets are fine).
+// Uses qhull (reentrant API, triangulated output 'Qt'; joggled 'QJ' as a fallback when the
+// default precision handling reports an error). Throws InputError on an empty set.
+[[nodiscard]] ConvexHull3 convex_hull(std::span<const Vec3> points);
+void convex_hull(std::span<const Vec3> points, ConvexHull3& out, HullWorkspace& workspace);
+
+// Andrew's monotone chain: reorders the first entries of `points` into the convex hull in
+// counter-clockwise order, without collinear points, and returns their number (0 for an
+// empty input, 1 when all points coincide, 2 for collinear points).
+[[nodiscard]] std::size_t convex_hull_2d(std::span<Vec2> points);
+
+}  // namespace tightbvh

@@ -1,0 +1,22 @@
+#pragma once
+// Minimum-area enclosing rectangle of a convex polygon by rotating calipers
+// (Toussaint 1983; Freeman & Shapira 1975: one rectangle side is flush with a polygon edge).
+#include <span>
+
+#include "tightbvh/hull.hpp"
+
+namespace tightbvh {
+
+struct Rect2 {
+  Vec2 axis = Vec2::UnitX();  // unit; the other axis is (-axis.y, axis.x)
+  Vec2 min = Vec2::Zero();    // extents along (axis, perpendicular)
+  Vec2 max = Vec2::Zero();
+  [[nodiscard]] double area() const { return (max.x() - min.x()) * (max.y() - min.y()); }
+};
+
+// `polygon`: a convex polygon in counter-clockwise order without repeated or collinear
+// vertices (as returned by convex_hull_2d). O(n). One or two vertices give a zero-area
+// rectangle along the segment.
+[[nodiscard]] Rect2 min_area_rect(std::span<const Vec2> polygon);
+
+}  // namespace tightbvh

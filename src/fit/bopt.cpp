@@ -1,0 +1,117 @@
+#include "bopt.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "frame.hpp"
+
+namespace tightbvh::fit_detail {
+
+void HullGeometry::reset(const ConvexHull3& h, const Vec3& o) {
+  hull = &h;
+  origin = o;
+  local.resize(h.vertices.size());
+  for (std::size_t i = 0; i < local.size(); ++i) local[i] = h.vertices[i] - o;
+}
+
+std::uint32_t extreme_vertex(const HullGeometry& g, const Vec3& dir, std::uint32_t start) {
+  const auto& offsets = g.hull->neighbor_offsets;
+  const auto& neighbors = g.hull->neighbors;
+  std::uint32_t v = start;
+  double best = dir.dot(g.local[v]);
+  for (std::size_t steps = 0; steps <= g.local.size(); ++steps) {
+    std::uint32_t next = v;
+    for (std::uint32_t k = offsets[v]; k < offsets[v + 1]; ++k) {
+      const std::uint32_t w = neighbors[k];
+      const double d = dir.dot(g.local[w]);
+      if (d > best) {
+        best = d;
+        next = w;
+      }
+    }
+    if (next == v) break;
+    v = next;
+  }
+  return v;
+}
+
+AxisBox box_of_hull(const HullGeometry& g, const Mat3& axes) {
+  AxisBox box;
+  box.axes = axes;
+  box.lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  box.hi = -box.lo;
+  const Mat3 rt = axes.transpose();
+  for (const Vec3& p : g.local) {
+    const Vec3 q = rt * p;
+    box.lo = box.lo.cwiseMin(q);
+    box.hi = box.hi.cwiseMax(q);
+  }
+  return box;
+}
+
+AxisBox bopt(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
+  ++s.calls;
+  const ConvexHull3& hull = *g.hull;
+  const Mat3 frame = frame_from_axis(v);
+  const Vec3 a = frame.col(0), u = frame.col(1), w = frame.col(2);
+
+  // Silhouette: edges between a face facing +a and a face facing -a (with a small tolerance
+  // so that faces parallel to a never hide a silhouette vertex). The projection of the
+  // silhouette's vertices contains every vertex of the projected hull.
+  const std::size_t nf = hull.faces.size();
+  s.face_dot.resize(nf);
+  for (std::size_t f = 0; f < nf; ++f) s.face_dot[f] = a.dot(hull.face_normals[f]);
+  if (s.stamp.size() != g.local.size()) {
+    s.stamp.assign(g.local.size(), 0);
+    s.epoch = 0;
+  }
+  if (++s.epoch == 0) {
+    std::fill(s.stamp.begin(), s.stamp.end(), 0);
+    s.epoch = 1;
+  }
+  s.projected.clear();
+  constexpr double tol = 1e-12;
+  for (const HullEdge& e : hull.edges) {
+    const double d0 = s.face_dot[e.face[0]], d1 = s.face_dot[e.face[1]];
+    if ((d0 > tol && d1 > tol) || (d0 < -tol && d1 < -tol)) continue;
+    for (std::uint32_t vi : e.vertex) {
+      if (s.stamp[vi] == s.epoch) continue;
+      s.stamp[vi] = s.epoch;
+      const Vec3& p = g.local[vi];
+      s.projected.emplace_back(u.dot(p), w.dot(p));
+    }
+  }
+  const std::size_t m = convex_hull_2d(s.projected);
+  const Rect2 rect = min_area_rect(std::span<const Vec2>(s.projected.data(), m));
+
+  s.hint_max = extreme_vertex(g, a, s.hint_max < g.local.size() ? s.hint_max : 0);
+  s.hint_min = extreme_vertex(g, -a, s.hint_min < g.local.size() ? s.hint_min : 0);
+
+  AxisBox box;
+  box.axes.col(0) = a;
+  box.axes.col(1) = rect.axis.x() * u + rect.axis.y() * w;
+  box.axes.col(2) = a.cross(box.axes.col(1));
+  box.lo = Vec3(a.dot(g.local[s.hint_min]), rect.min.x(), rect.min.y());
+  box.hi = Vec3(a.dot(g.local[s.hint_max]), rect.max.x(), rect.max.y());
+  return box;
+}
+
+AxisBox improve(const HullGeometry& g, AxisBox box, BoptScratch& scratch, int max_rounds) {
+  double volume = box.volume();
+  for (int round = 0; round < max_rounds; ++round) {
+    bool improved = false;
+    for (int axis = 0; axis < 3; ++axis) {
+      const AxisBox candidate = bopt(g, box.axes.col(axis), scratch);
+      const double cv = candidate.volume();
+      if (cv < volume * (1.0 - 1e-12)) {
+        box = candidate;
+        volume = cv;
+        improved = true;
+      }
+    }
+    if (!improved) break;
+  }
+  return box;
+}
+
+}  // namespace tightbvh::fit_detail

@@ -1,0 +1,56 @@
+#pragma once
+// Internal: Bopt(S, {v}) of Barequet & Har-Peled (Section 6.3): the minimum-volume box of
+// the hull with one axis along v, by projecting the hull's silhouette and rotating calipers.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "tightbvh/hull.hpp"
+#include "tightbvh/min_rect.hpp"
+
+namespace tightbvh::fit_detail {
+
+// A solid (dimension 3) hull seen from a local origin: vertices are relative to `origin`
+// so that sets far from the coordinate origin keep their precision.
+struct HullGeometry {
+  const ConvexHull3* hull = nullptr;
+  Vec3 origin = Vec3::Zero();
+  std::vector<Vec3> local;  // hull->vertices[i] - origin
+
+  void reset(const ConvexHull3& h, const Vec3& o);
+  [[nodiscard]] std::size_t size() const { return local.size(); }
+};
+
+// The vertex maximising dir . p, by hill climbing on the hull's vertex graph from `start`
+// (a local maximum of a linear function over a convex polytope's graph is global).
+[[nodiscard]] std::uint32_t extreme_vertex(const HullGeometry& g, const Vec3& dir, std::uint32_t start);
+
+// A box given by orthonormal right-handed axes and its extents along them (local frame).
+struct AxisBox {
+  Mat3 axes = Mat3::Identity();
+  Vec3 lo = Vec3::Zero();
+  Vec3 hi = Vec3::Zero();
+  [[nodiscard]] double volume() const { return (hi - lo).prod(); }
+};
+
+struct BoptScratch {
+  std::vector<Vec2> projected;
+  std::vector<std::uint32_t> stamp;
+  std::vector<double> face_dot;
+  std::uint32_t epoch = 0;
+  std::uint32_t hint_max = 0;
+  std::uint32_t hint_min = 0;
+  std::size_t calls = 0;
+};
+
+// Bopt(S, {v}) for the solid hull `g` (v need not be unit; a zero v gives an infinite box).
+[[nodiscard]] AxisBox bopt(const HullGeometry& g, const Vec3& v, BoptScratch& scratch);
+
+// The local improvement step of Section 6.5: re-solve Bopt along each axis of the box while
+// the volume decreases (by more than a relative 1e-12). Returns the improved box.
+[[nodiscard]] AxisBox improve(const HullGeometry& g, AxisBox box, BoptScratch& scratch, int max_rounds = 64);
+
+// The extents of the hull along given axes (exact, by scanning all hull vertices).
+[[nodiscard]] AxisBox box_of_hull(const HullGeometry& g, const Mat3& axes);
+
+}  // namespace tightbvh::fit_detail

@@ -1,0 +1,86 @@
+// B*(S), Barequet & Har-Peled Lemma 6.3.1.
+#include <cmath>
+
+#include "fitters.hpp"
+#include "frame.hpp"
+
+namespace tightbvh::fit_detail {
+namespace {
+
+// An approximate diameter pair (Lemma 2.5.3 uses the extreme points of a fixed set of
+// directions): the extreme pairs along the 13 directions of the cube's faces, edges and
+// corners, then two rounds of "farthest point from the current end".
+template <typename Points, typename Project>
+std::array<std::size_t, 2> approx_diameter(const Points& pts, std::size_t n, const Project& dirs_count,
+                                           auto&& dir_at) {
+  std::array<std::size_t, 2> best{0, 0};
+  double best_len = -1.0;
+  for (int d = 0; d < dirs_count; ++d) {
+    const auto dir = dir_at(d);
+    std::size_t lo = 0, hi = 0;
+    double vlo = dir.dot(pts[0]), vhi = vlo;
+    for (std::size_t i = 1; i < n; ++i) {
+      const double v = dir.dot(pts[i]);
+      if (v < vlo) vlo = v, lo = i;
+      if (v > vhi) vhi = v, hi = i;
+    }
+    const double len = (pts[hi] - pts[lo]).squaredNorm();
+    if (len > best_len) best_len = len, best = {lo, hi};
+  }
+  for (int round = 0; round < 2; ++round) {
+    std::size_t far = best[0];
+    double far_len = -1.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double len = (pts[i] - pts[best[0]]).squaredNorm();
+      if (len > far_len) far_len = len, far = i;
+    }
+    if (far_len > best_len) {
+      best_len = far_len;
+      best = {best[0], far};
+    }
+    std::swap(best[0], best[1]);
+  }
+  return best;
+}
+
+}  // namespace
+
+AxisBox lemma_box(const HullGeometry& g) {
+  const auto& p = g.local;
+  static const Vec3 kDirs[13] = {{1, 0, 0}, {0, 1, 0},  {0, 0, 1},  {1, 1, 0},  {1, -1, 0}, {1, 0, 1},  {1, 0, -1},
+                                 {0, 1, 1}, {0, 1, -1}, {1, 1, 1},  {1, 1, -1}, {1, -1, 1}, {-1, 1, 1}};
+  const auto st = approx_diameter(p, p.size(), 13, [](int d) { return kDirs[d]; });
+  const Vec3 axis1 = (p[st[1]] - p[st[0]]).normalized();
+  const Mat3 frame = frame_from_axis(axis1);
+  const Vec3 u = frame.col(1), w = frame.col(2);
+  // Projection onto the plane H orthogonal to st, in the (u, w) basis.
+  thread_local std::vector<Vec2> q;
+  q.resize(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) q[i] = Vec2(u.dot(p[i]), w.dot(p[i]));
+  const auto st2 = approx_diameter(q, q.size(), 8, [](int d) {
+    const double angle = d * (3.14159265358979323846 / 8.0);
+    return Vec2(std::cos(angle), std::sin(angle));
+  });
+  Vec2 d2 = q[st2[1]] - q[st2[0]];
+  if (!(d2.norm() > 0.0)) d2 = Vec2::UnitX();
+  d2.normalize();
+  Mat3 axes;
+  axes.col(0) = axis1;
+  axes.col(1) = d2.x() * u + d2.y() * w;
+  axes.col(2) = axis1.cross(axes.col(1));
+  return box_of_hull(g, orthonormalize(axes));
+}
+
+}  // namespace tightbvh::fit_detail
+
+namespace tightbvh::fit_detail {
+
+AxisBox diameter_box(const HullGeometry& g, BoptScratch& scratch) {
+  const AxisBox lemma = lemma_box(g);
+  // Bopt(S, {st}) is never larger than the lemma's box (it shares the axis st and then takes
+  // the optimal rectangle), and is what Section 6.5 reports as B*(S).
+  const AxisBox along = bopt(g, lemma.axes.col(0), scratch);
+  return along.volume() <= lemma.volume() ? along : lemma;
+}
+
+}  // namespace tightbvh::fit_detail

@@ -1,0 +1,242 @@
+// Exact minimum-volume box (O'Rourke 1985; the edge-pair families of Eberly 2024, Section 3).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "fitters.hpp"
+#include "frame.hpp"
+
+namespace tightbvh::fit_detail {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct Evaluator {
+  const HullGeometry& g;
+  ExactScratch& s;
+
+  // Volume of the tightest hull box with axes n1, n2, n1 x n2 (n1, n2 unit, orthogonal);
+  // the three widths go to `widths`.
+  double volume(const Vec3& n1, const Vec3& n2, double* widths) {
+    ++s.stats.evaluations;
+    const Vec3 n3 = n1.cross(n2);
+    const Vec3 axis[3] = {n1, n2, n3};
+    double v = 1.0;
+    for (int k = 0; k < 3; ++k) {
+      s.hints[2 * k] = extreme_vertex(g, axis[k], s.hints[2 * k]);
+      s.hints[2 * k + 1] = extreme_vertex(g, -axis[k], s.hints[2 * k + 1]);
+      const double w = axis[k].dot(g.local[s.hints[2 * k]] - g.local[s.hints[2 * k + 1]]);
+      if (widths) widths[k] = w;
+      v *= w;
+    }
+    return v;
+  }
+
+  // The family of edge pair (i, j): n1(t) on arc i, n2 = n1 x d_j normalised.
+  bool frame(std::size_t i, std::size_t j, double t, Vec3& n1, Vec3& n2, double* m_len = nullptr) const {
+    const auto& ai = s.arcs[i];
+    n1 = std::cos(t) * ai.a + std::sin(t) * ai.b;
+    const Vec3 m = n1.cross(s.arcs[j].d);
+    const double len = m.norm();
+    if (m_len) *m_len = len;
+    // Near n1 = +-d_j the family degenerates (n2 turns freely); the ordered pair (j, i)
+    // parameterises that part.
+    if (!(len > 1e-9)) return false;
+    n2 = m / len;
+    return true;
+  }
+
+  double at(std::size_t i, std::size_t j, double t, double* widths = nullptr, double* m_len = nullptr) {
+    Vec3 n1, n2;
+    if (!frame(i, j, t, n1, n2, m_len)) return kInf;
+    // The box face with normal n1 touches edge i; the one with normal +-n2 touches edge j.
+    s.hints[0] = s.arcs[i].v0;
+    if (n2.dot(s.arcs[j].a) + n2.dot(s.arcs[j].b) < 0.0) n2 = -n2;
+    s.hints[2] = s.arcs[j].v0;
+    return volume(n1, n2, widths);
+  }
+};
+
+}  // namespace
+
+AxisBox exact_box(const HullGeometry& g, ExactScratch& s, BoptScratch& bs) {
+  const ConvexHull3& hull = *g.hull;
+  s.stats = {};
+  s.hints.fill(0);
+  AxisBox best = box_of_hull(g, Mat3::Identity());
+  double best_volume = best.volume();
+
+  // 1. Boxes with a face flush with a hull face: Bopt along each distinct face normal.
+  const std::size_t nf = hull.faces.size();
+  s.face_order.resize(nf);
+  for (std::size_t f = 0; f < nf; ++f) s.face_order[f] = static_cast<std::uint32_t>(f);
+  const auto& normals = hull.face_normals;
+  const auto less = [&](std::uint32_t a, std::uint32_t b) {
+    const Vec3 &x = normals[a], &y = normals[b];
+    return x.x() < y.x() || (x.x() == y.x() && (x.y() < y.y() || (x.y() == y.y() && x.z() < y.z())));
+  };
+  std::sort(s.face_order.begin(), s.face_order.end(), less);
+  for (std::size_t k = 0; k < nf; ++k) {
+    const std::uint32_t f = s.face_order[k];
+    if (k > 0 && normals[f] == normals[s.face_order[k - 1]]) continue;
+    ++s.stats.face_directions;
+    const AxisBox box = bopt(g, normals[f], bs);
+    const double volume = box.volume();
+    if (volume < best_volume) best_volume = volume, best = box;
+  }
+
+  // A good first upper bound lets the bounds below skip most families: the grid search of
+  // Section 6.4 with k = 2 and the local improvement (any valid box is a valid bound).
+  {
+    const AxisBox seed = grid_search(g, diameter_box(g, bs), 2, true, bs);
+    if (seed.volume() < best_volume) best_volume = seed.volume(), best = seed;
+  }
+
+  // 2. Normal arcs of the edges (outward normals, rotating from face[0]'s to face[1]'s).
+  s.arcs.clear();
+  for (const HullEdge& e : hull.edges) {
+    const Vec3 d = (g.local[e.vertex[1]] - g.local[e.vertex[0]]).normalized();
+    Vec3 na = normals[e.face[0]] - normals[e.face[0]].dot(d) * d;
+    Vec3 nb = normals[e.face[1]] - normals[e.face[1]].dot(d) * d;
+    if (!(na.norm() > 0.0) || !(nb.norm() > 0.0) || !d.allFinite()) continue;
+    na.normalize();
+    nb.normalize();
+    Vec3 b = nb - nb.dot(na) * na;
+    const double bl = b.norm();
+    if (!(bl > 1e-12)) continue;  // flat edge (inside a planar face): covered by step 1
+    b /= bl;
+    ExactScratch::Arc arc;
+    arc.d = d;
+    arc.a = na;
+    arc.b = b;
+    arc.alpha = std::atan2(nb.dot(b), nb.dot(na));
+    arc.v0 = e.vertex[0];
+    if (!(arc.alpha > 1e-12)) continue;
+    s.arcs.push_back(arc);
+  }
+
+  // 3. Families of ordered edge pairs (e1, e2): n1 on arc 1 and n2 = n1 x d2 on arc 2.
+  // n2 can lie on arc 2 (up to sign) iff n1 separates arc 2's end normals P, Q:
+  // (P . n1)(Q . n1) <= 0. Each of P . n1(t), Q . n1(t) is a sinusoid with at most one zero
+  // on [0, alpha1] (alpha1 < pi), so the valid set is at most three intervals cut at those zeros.
+  Evaluator ev{g, s};
+  Vec3 best_n1 = best.axes.col(0), best_n2 = best.axes.col(1);
+  bool have_family_best = false;
+  const std::size_t na = s.arcs.size();
+  constexpr double kStep = 0.01;  // sampling step along a family (radians, ~0.6 degrees)
+  constexpr int kGolden = 60;
+  double samples_t[256];
+  double samples_v[256];
+  double samples_w[256][3];
+  double samples_m[256];
+  double radius = 0.0;
+  for (const Vec3& p : g.local) radius = std::max(radius, p.norm());
+  for (std::size_t i = 0; i < na; ++i) {
+    const auto& a1 = s.arcs[i];
+    const Vec3 end1 = std::cos(a1.alpha) * a1.a + std::sin(a1.alpha) * a1.b;
+    for (std::size_t j = 0; j < na; ++j) {
+      if (j == i) continue;
+      const auto& a2 = s.arcs[j];
+      const Vec3 P = a2.a;
+      const Vec3 Q = std::cos(a2.alpha) * a2.a + std::sin(a2.alpha) * a2.b;
+      const double p0 = P.dot(a1.a), p1 = P.dot(end1), q0 = Q.dot(a1.a), q1 = Q.dot(end1);
+      if (p0 * q0 > 0.0 && p1 * q1 > 0.0 && p0 * p1 > 0.0 && q0 * q1 > 0.0) continue;
+      // Cut points: zeros of P . n1(t) and Q . n1(t) inside (0, alpha1).
+      double cuts[4] = {0.0, 0.0, 0.0, 0.0};
+      int nc = 0;
+      cuts[nc++] = 0.0;
+      for (const Vec3* f : {&P, &Q}) {
+        const double A = f->dot(a1.a), B = f->dot(a1.b);
+        double z = std::atan2(-A, B);
+        if (z < 0.0) z += kPi;
+        if (z > 0.0 && z < a1.alpha) cuts[nc++] = z;
+      }
+      cuts[nc++] = a1.alpha;
+      for (int x = 1; x < nc; ++x)  // insertion sort of at most four values
+        for (int y = x; y > 0 && cuts[y] < cuts[y - 1]; --y) std::swap(cuts[y], cuts[y - 1]);
+      for (int c = 0; c + 1 < nc; ++c) {
+        const double t0 = cuts[c], t1 = cuts[c + 1];
+        if (!(t1 > t0)) continue;
+        const double tm = 0.5 * (t0 + t1);
+        const Vec3 nm = std::cos(tm) * a1.a + std::sin(tm) * a1.b;
+        if (P.dot(nm) * Q.dot(nm) > 0.0) continue;
+        ++s.stats.edge_pairs;
+        // Sample the family; then refine, by golden-section search, every bracket between
+        // neighbouring samples whose lower bound is below the best volume so far. The bound:
+        // a support function is R-Lipschitz in the direction (R = max |p|), n1 moves at unit
+        // speed, n2 = m/|m| with m = n1 x d2 at speed <= 1/|m|, n3 = n1 x n2 at <= 1 + 1/|m|;
+        // so each width changes by at most 2 R speed |dt| away from a sample.
+        const int n = std::min(255, 2 + static_cast<int>((t1 - t0) / kStep));
+        for (int k = 0; k < n; ++k) {
+          samples_t[k] = t0 + (t1 - t0) * k / (n - 1);
+          samples_v[k] = ev.at(i, j, samples_t[k], samples_w[k], &samples_m[k]);
+          if (samples_v[k] < best_volume) {
+            Vec3 n1, n2;
+            if (ev.frame(i, j, samples_t[k], n1, n2)) {
+              best_volume = samples_v[k];
+              best_n1 = n1;
+              best_n2 = n2;
+              have_family_best = true;
+            }
+          }
+        }
+        for (int k = 0; k + 1 < n; ++k) {
+          if (!(samples_v[k] < kInf) || !(samples_v[k + 1] < kInf)) continue;
+          const double half = 0.5 * (samples_t[k + 1] - samples_t[k]);
+          const double m_min = std::min(samples_m[k], samples_m[k + 1]) - half;
+          if (!(m_min > 0.0)) continue;  // near the singular direction: the pair (j, i) covers it
+          const double speed[3] = {1.0, 1.0 / m_min, 1.0 + 1.0 / m_min};
+          double bound = kInf;
+          for (int side = 0; side < 2; ++side) {
+            double b = 1.0;
+            for (int a = 0; a < 3; ++a) b *= std::max(0.0, samples_w[k + side][a] - 2.0 * radius * speed[a] * half);
+            bound = std::min(bound, b);
+          }
+          if (bound >= best_volume) continue;
+          ++s.stats.refined;
+          double lo = samples_t[k], hi = samples_t[k + 1];
+          double t_best = samples_t[k], v_best = samples_v[k];
+          if (hi > lo) {
+            constexpr double r = 0.6180339887498949;
+            double x1 = hi - r * (hi - lo), x2 = lo + r * (hi - lo);
+            double f1 = ev.at(i, j, x1), f2 = ev.at(i, j, x2);
+            for (int it = 0; it < kGolden && hi - lo > 1e-13; ++it) {
+              if (f1 <= f2) {
+                hi = x2, x2 = x1, f2 = f1;
+                x1 = hi - r * (hi - lo);
+                f1 = ev.at(i, j, x1);
+              } else {
+                lo = x1, x1 = x2, f1 = f2;
+                x2 = lo + r * (hi - lo);
+                f2 = ev.at(i, j, x2);
+              }
+            }
+            if (f1 < v_best) v_best = f1, t_best = x1;
+            if (f2 < v_best) v_best = f2, t_best = x2;
+          }
+          if (v_best < best_volume) {
+            Vec3 n1, n2;
+            if (ev.frame(i, j, t_best, n1, n2)) {
+              best_volume = v_best;
+              best_n1 = n1;
+              best_n2 = n2;
+              have_family_best = true;
+            }
+          }
+        }
+      }
+    }
+  }
+  if (have_family_best) {
+    Mat3 axes;
+    axes.col(0) = best_n1;
+    axes.col(1) = best_n2;
+    axes.col(2) = best_n1.cross(best_n2);
+    best = box_of_hull(g, orthonormalize(axes));
+  }
+  // Polish: Bopt along the found axes can only keep or lower the volume.
+  return improve(g, best, bs);
+}
+
+}  // namespace tightbvh::fit_detail

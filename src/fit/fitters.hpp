@@ -1,0 +1,55 @@
+#pragma once
+// Internal: the hull-based fitters. Each returns axes + hull extents in the hull's local
+// frame; fit.cpp turns them into an Obb over the input points.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "bopt.hpp"
+
+namespace tightbvh::fit_detail {
+
+// B*(S) of Lemma 6.3.1: approximate diameter st, approximate diameter s't' of the projection
+// onto the plane orthogonal to st, third axis orthogonal to both. O(n), volume <= 7 optimum.
+[[nodiscard]] AxisBox lemma_box(const HullGeometry& g);
+// B*(S) as used in Section 6.5 (Tables 6.1/6.2): Bopt(S, {st}) along the approximate diameter
+// st of lemma_box (never larger than the lemma's box, so still a 7-approximation).
+[[nodiscard]] AxisBox diameter_box(const HullGeometry& g, BoptScratch& scratch);
+
+// The primitive vectors (i1, i2, i3) with max |ij| <= k and gcd 1, one of each pair +-v.
+[[nodiscard]] const std::vector<std::array<int, 3>>& primitive_grid(int k);
+
+// GridSearchMinVolBbx (Section 6.4, Fig. 6.3): Bopt(S, {v}) for every primitive direction v
+// of Grid(B*(S)) with L-inf norm <= k, keep the smallest; then (if `improve`) the local
+// improvement of Section 6.5.
+[[nodiscard]] AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool improve,
+                                  BoptScratch& scratch);
+
+struct ExactStats {
+  std::size_t edge_pairs = 0;       // ordered edge pairs with a non-empty orthogonal family
+  std::size_t evaluations = 0;      // volume evaluations along the families
+  std::size_t face_directions = 0;  // distinct face normals tried with Bopt
+  std::size_t refined = 0;          // brackets refined by golden-section search
+};
+
+struct ExactScratch {
+  struct Arc {
+    Vec3 d;            // unit edge direction
+    Vec3 a, b;         // outward normal range: n(t) = cos t a + sin t b, t in [0, alpha]
+    double alpha = 0;  // dihedral turn of the normal across the edge, in [0, pi)
+    std::uint32_t v0 = 0;
+  };
+  std::vector<Arc> arcs;
+  std::vector<std::uint32_t> face_order;
+  std::array<std::uint32_t, 6> hints{};
+  ExactStats stats;
+};
+
+// The minimum-volume box of the solid hull (O'Rourke 1985: two adjacent box faces are flush
+// with hull edges). For every ordered pair of hull edges (e1, e2) the box faces through them
+// have normals n1 on e1's normal arc and n2 = n1 x d2 / |n1 x d2| on e2's arc: a
+// one-parameter family (Eberly 2024, Section 3), searched by sampling plus golden-section
+// refinement. Boxes flush with a hull face are solved exactly by Bopt along each face normal.
+[[nodiscard]] AxisBox exact_box(const HullGeometry& g, ExactScratch& scratch, BoptScratch& bopt_scratch);
+
+}  // namespace tightbvh::fit_detail

@@ -1,0 +1,78 @@
+// Rotating calipers (Toussaint 1983) for the minimum-area rectangle of a convex polygon.
+#include "tightbvh/min_rect.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace tightbvh {
+namespace {
+
+Rect2 rect_along(std::span<const Vec2> polygon, const Vec2& axis) {
+  const Vec2 perp(-axis.y(), axis.x());
+  Rect2 r;
+  r.axis = axis;
+  r.min = Vec2::Constant(std::numeric_limits<double>::infinity());
+  r.max = -r.min;
+  for (const Vec2& p : polygon) {
+    const Vec2 q(axis.dot(p), perp.dot(p));
+    r.min = r.min.cwiseMin(q);
+    r.max = r.max.cwiseMax(q);
+  }
+  return r;
+}
+
+}  // namespace
+
+Rect2 min_area_rect(std::span<const Vec2> polygon) {
+  const std::size_t n = polygon.size();
+  if (n == 0) return {};
+  if (n == 1) return rect_along(polygon, Vec2::UnitX());
+  if (n == 2) {
+    const Vec2 d = polygon[1] - polygon[0];
+    const double len = d.norm();
+    return rect_along(polygon, len > 0.0 ? Vec2(d / len) : Vec2::UnitX());
+  }
+  // For edge i (from p[i] to p[i+1], counter-clockwise, interior on the left) keep three
+  // calipers: r = farthest along the edge, t = farthest from the edge line (towards the
+  // interior), l = farthest against the edge direction. Each only moves forward: O(n).
+  const auto next = [n](std::size_t i) { return i + 1 == n ? 0 : i + 1; };
+  std::size_t r = 0, t = 0, l = 0;
+  double best_area = std::numeric_limits<double>::infinity();
+  std::size_t best_edge = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 e = polygon[next(i)] - polygon[i];
+    const double len = e.norm();
+    if (!(len > 0.0)) continue;
+    const Vec2 u = e / len;
+    const Vec2 v(-u.y(), u.x());
+    const Vec2& o = polygon[i];
+    if (i == 0) {
+      r = next(i);
+      t = r;
+      l = 0;
+    }
+    // Advance r while it increases the projection on u; t on v; l while it decreases on u.
+    std::size_t guard = 0;
+    while (guard++ < n && u.dot(polygon[next(r)] - polygon[r]) > 0.0) r = next(r);
+    if (i == 0) t = r;
+    guard = 0;
+    while (guard++ < n && v.dot(polygon[next(t)] - polygon[t]) > 0.0) t = next(t);
+    if (i == 0) l = t;
+    guard = 0;
+    while (guard++ < n && u.dot(polygon[next(l)] - polygon[l]) < 0.0) l = next(l);
+    const double width = u.dot(polygon[r] - o) - u.dot(polygon[l] - o);
+    const double height = v.dot(polygon[t] - o);
+    const double area = width * height;
+    if (area < best_area) {
+      best_area = area;
+      best_edge = i;
+    }
+  }
+  const Vec2 e = polygon[next(best_edge)] - polygon[best_edge];
+  const double len = e.norm();
+  // The final extents are recomputed over all vertices, so the rectangle always contains the
+  // polygon even if a caliper stopped early on nearly-collinear vertices.
+  return rect_along(polygon, len > 0.0 ? Vec2(e / len) : Vec2::UnitX());
+}
+
+}  // namespace tightbvh

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <exception>
 #include <limits>
 #include <string>
@@ -30,6 +31,32 @@ namespace {
 
 using Index = std::uint32_t;
 
+// The box of a single non-degenerate triangle: axes = longest edge, in-plane normal to it,
+// triangle normal (right-handed); nullopt for a degenerate triangle (left to the fitter).
+[[nodiscard]] std::optional<Obb> triangle_box(const std::array<Vec3, 3>& c) {
+  const Vec3 edges[3] = {c[1] - c[0], c[2] - c[1], c[0] - c[2]};
+  const double len2[3] = {edges[0].squaredNorm(), edges[1].squaredNorm(), edges[2].squaredNorm()};
+  const int longest = len2[0] >= len2[1] ? (len2[0] >= len2[2] ? 0 : 2) : (len2[1] >= len2[2] ? 1 : 2);
+  const Vec3 normal = edges[0].cross(edges[1]);
+  const double normal_norm = normal.norm();
+  // Degenerate (zero or tiny area relative to the edges): the fitter handles it robustly.
+  if (!(normal_norm > 1e-12 * len2[longest])) return std::nullopt;
+  Obb box;
+  box.axes.col(0) = edges[longest] / std::sqrt(len2[longest]);
+  box.axes.col(2) = normal / normal_norm;
+  box.axes.col(1) = box.axes.col(2).cross(box.axes.col(0));
+  const Vec3 origin = c[0];
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // c[0] is at the local origin
+  for (int i = 1; i < 3; ++i) {
+    const Vec3 q = box.axes.transpose() * (c[i] - origin);
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  box.half_extents = 0.5 * (hi - lo);
+  box.center = origin + box.axes * (0.5 * (hi + lo));
+  return box;
+}
+
 // Range of triangle_order owned by a node being built.
 struct Pending {
   Index node;
@@ -39,53 +66,54 @@ struct Pending {
 
 // Per-worker buffers, reused from node to node: no allocation per node once they have grown.
 struct Scratch {
-  std::vector<Vec3> corners;
+  std::vector<Pending> stack;
+  FitWorkspace fit;  // hulls, projections, ... of the fitters
   detail::SplitScratch split;
 };
 
 class Builder {
  public:
   Builder(const Mesh& mesh, const BuildOptions& options, std::vector<Index>& order)
-      : mesh_(mesh), options_(options), order_(order), centroids_(mesh.triangles.size()) {
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-      const auto c = mesh.corners(t);
-      centroids_[t] = (c[0] + c[1] + c[2]) / 3.0;
-    }
+      : options_(options), order_(order), corners_(3 * mesh.triangles.size()) {
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k) corners_[3 * t + k] = mesh.vertices[mesh.triangles[t][k]];
   }
 
   // Fits the node's box; returns the split point (begin < mid < end), or `end` for a leaf.
-  Index process(Node& node, Index begin, Index end, Scratch& scratch) const {
+  Index process(Node& node, Index begin, Index end, Scratch& scratch) {
     node.box = fit(begin, end, scratch);
     if (end - begin <= options_.leaf_size) {
       node.first = begin;
       node.count = end - begin;
       return end;
     }
-    const auto range = std::span<Index>(order_).subspan(begin, end - begin);
-    return begin + detail::split(options_.split, range, node.box, mesh_, centroids_, scratch.split);
+    const std::size_t n = end - begin;
+    return begin + static_cast<Index>(detail::split(options_.split, std::span<Index>(order_).subspan(begin, n),
+                                                    std::span<Vec3>(corners_).subspan(3 * std::size_t{begin}, 3 * n),
+                                                    node.box, scratch.split));
   }
 
-  // Builds the subtree of [begin, end) into `out` (local indices, root at 0), depth first.
-  // An explicit stack: the RAPID split can be very unbalanced (depth ~ n on some inputs).
-  void build_subtree(Index begin, Index end, std::vector<Node>& out, Scratch& scratch) const {
-    out.clear();
-    out.emplace_back();
-    std::vector<Pending> stack{{0, begin, end}};
+  // Builds the subtree of [begin, end) whose root is nodes[root] depth first, allocating child
+  // pairs from nodes[next ...]; returns the end of what it used. An explicit stack: the RAPID
+  // split can be very unbalanced (depth ~ n on some inputs).
+  std::size_t build_subtree(Index root, Index begin, Index end, std::span<Node> nodes, std::size_t next,
+                            Scratch& scratch) {
+    auto& stack = scratch.stack;
+    stack.assign(1, {root, begin, end});
     while (!stack.empty()) {
       const Pending p = stack.back();
       stack.pop_back();
-      Node node;
+      Node& node = nodes[p.node];
       const Index mid = process(node, p.begin, p.end, scratch);
       if (mid != p.end) {
-        node.first = static_cast<Index>(out.size());
+        node.first = static_cast<Index>(next);
         node.count = 0;
-        out.emplace_back();
-        out.emplace_back();
+        next += 2;
         stack.push_back({node.first + 1, mid, p.end});
         stack.push_back({node.first, p.begin, mid});
       }
-      out[p.node] = node;
     }
+    return next;
   }
 
  private:
@@ -96,22 +124,24 @@ class Builder {
   }
 
   [[nodiscard]] Obb fit(Index begin, Index end, Scratch& scratch) const {
-    scratch.corners.clear();
-    for (Index i = begin; i < end; ++i) {
-      const Triangle& t = mesh_.triangles[order_[i]];
-      scratch.corners.push_back(mesh_.vertices[t[0]]);
-      scratch.corners.push_back(mesh_.vertices[t[1]]);
-      scratch.corners.push_back(mesh_.vertices[t[2]]);
+    const FitMethod method = method_for(end - begin);
+    const auto corners = std::span<const Vec3>(corners_).subspan(3 * std::size_t{begin}, 3 * std::size_t{end - begin});
+    if (end - begin == 1 && method != FitMethod::aabb) {
+      // One triangle: its minimum-volume box is flat, with its rectangle flush with the longest
+      // edge (the minimum-area rectangle of a triangle). No fitter can do better, and it costs
+      // no eigen-decomposition on half of the nodes. FCL's OBB fit3 does the same.
+      if (const auto box = triangle_box({corners[0], corners[1], corners[2]})) return *box;
     }
     FitOptions fit = options_.fit;
-    fit.method = method_for(end - begin);
-    return fit_triangles(scratch.corners, fit);
+    fit.method = method;
+    return fit_triangles(corners, fit, scratch.fit);
   }
 
-  const Mesh& mesh_;
   const BuildOptions& options_;
-  std::vector<Index>& order_;  // each node (and each task) touches only its own range
-  std::vector<Vec3> centroids_;
+  // Position-indexed, permuted in lockstep by the splits: position p holds triangle order_[p]
+  // with corners corners_[3p..3p+3). Each node (and each task) touches only its own range.
+  std::vector<Index>& order_;
+  std::vector<Vec3> corners_;
 };
 
 // Subtrees at most this large are built by one task. It depends on the triangle count only,
@@ -133,7 +163,7 @@ Tree build(const Mesh& mesh, const BuildOptions& options) {
   Tree tree;
   tree.triangle_order.resize(n);
   for (Index i = 0; i < n; ++i) tree.triangle_order[i] = i;
-  const Builder builder(mesh, options, tree.triangle_order);
+  Builder builder(mesh, options, tree.triangle_order);
   const unsigned threads =
       options.threads != 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
   detail::WorkerPool<Scratch> pool(threads);
@@ -165,33 +195,41 @@ Tree build(const Mesh& mesh, const BuildOptions& options) {
     }
   }
 
-  // Subtrees below the grain: one task each, largest first for load balance; each writes its
-  // own local node array, appended afterwards in task order.
+  // Subtrees below the grain: one task each, largest first for load balance. A subtree of m
+  // triangles has at most 2m - 1 nodes (exactly that for leaf_size 1): each task writes its
+  // nodes directly into its own slice of the final array, at an offset fixed by the task order.
+  std::vector<std::size_t> offset(tasks.size() + 1, tree.nodes.size());
+  for (std::size_t i = 0; i < tasks.size(); ++i)
+    offset[i + 1] = offset[i] + 2 * std::size_t{tasks[i].end - tasks[i].begin} - 2;
+  tree.nodes.resize(offset.back());
+  std::vector<std::size_t> used(tasks.size());
   std::vector<std::size_t> by_size(tasks.size());
   for (std::size_t i = 0; i < by_size.size(); ++i) by_size[i] = i;
   std::stable_sort(by_size.begin(), by_size.end(), [&](std::size_t a, std::size_t b) {
     return tasks[a].end - tasks[a].begin > tasks[b].end - tasks[b].begin;
   });
-  std::vector<std::vector<Node>> local(tasks.size());
-  pool.run(tasks.size(), [&](std::size_t i, Scratch& scratch) {
-    const Pending& p = tasks[by_size[i]];
-    builder.build_subtree(p.begin, p.end, local[by_size[i]], scratch);
+  pool.run(tasks.size(), [&](std::size_t k, Scratch& scratch) {
+    const std::size_t i = by_size[k];
+    const Pending& p = tasks[i];
+    used[i] = builder.build_subtree(p.node, p.begin, p.end, tree.nodes, offset[i], scratch) - offset[i];
   });
-  std::size_t total = tree.nodes.size();
-  for (const std::vector<Node>& sub : local) total += sub.size() - 1;
-  tree.nodes.reserve(total);  // exact: no second copy of the largest array at peak
+  // With leaf_size > 1 the slices have unused tails: close the gaps, in task order.
+  std::size_t write = offset[0];
   for (std::size_t i = 0; i < tasks.size(); ++i) {
-    const std::vector<Node>& sub = local[i];
-    // Local node k >= 1 goes to offset + k - 1; local root 0 goes to the slot reserved above.
-    const auto offset = static_cast<Index>(tree.nodes.size());
-    const auto relocate = [offset](Node node) {
-      if (!node.is_leaf()) node.first = node.first - 1 + offset;
-      return node;
-    };
-    tree.nodes[tasks[i].node] = relocate(sub[0]);
-    for (std::size_t k = 1; k < sub.size(); ++k) tree.nodes.push_back(relocate(sub[k]));
-    local[i] = {};
+    const std::size_t shift = offset[i] - write;
+    if (shift != 0) {
+      Node& root = tree.nodes[tasks[i].node];
+      if (!root.is_leaf()) root.first -= static_cast<Index>(shift);
+      for (std::size_t k = offset[i]; k < offset[i] + used[i]; ++k) {
+        Node node = tree.nodes[k];
+        if (!node.is_leaf()) node.first -= static_cast<Index>(shift);
+        tree.nodes[k - shift] = node;
+      }
+    }
+    write += used[i];
   }
+  tree.nodes.resize(write);
+  if (tree.nodes.capacity() > write + write / 4) tree.nodes.shrink_to_fit();
   return tree;
 }
 

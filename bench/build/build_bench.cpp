@@ -1,0 +1,338 @@
+// tightbvh-build-bench: tree build time and tightness against FCL's own builders.
+//
+//   tightbvh-build-bench [MESH...] [--repeats R] [--json FILE]
+//       per mesh, in one run: FCL BVHModel<OBB> and BVHModel<OBBRSS> builds (PCA boxes, mean
+//       split), our pca / approx / auto builds (threads = 1 unless --threads), median times,
+//       ratios, sums of node volumes and bytes per triangle.
+//   tightbvh-build-bench --splits [MESH...]      sum of volumes per split method
+//   tightbvh-build-bench --auto-sweep [MESH...]  time and volume of auto per threshold
+//   tightbvh-build-bench --scale MESH --triangles N --fitter F [--threads T]
+//       subdivides MESH 1->4 until it has >= N triangles, builds once, prints time and peak
+//       memory (getrusage; run one fitter per process to get each fitter's peak).
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/math/bv/OBB.h>
+#include <fcl/math/bv/OBBRSS.h>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include "tightbvh/build.hpp"
+#include "tightbvh/validate_tree.hpp"
+
+namespace {
+
+using namespace tightbvh;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+template <class Fn>
+double median_seconds(int repeats, Fn&& fn) {
+  std::vector<double> times;
+  for (int r = 0; r < repeats; ++r) {
+    const auto start = Clock::now();
+    fn();
+    times.push_back(seconds_since(start));
+  }
+  std::sort(times.begin(), times.end());
+  return times[times.size() / 2];
+}
+
+bool available(FitMethod method) {
+  const std::vector<Vec3> corners{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  try {
+    (void)fit_triangles(corners, FitOptions{.method = method});
+    return true;
+  } catch (const std::logic_error&) {
+    return false;
+  }
+}
+
+struct FclMesh {
+  std::vector<fcl::Vector3d> vertices;
+  std::vector<fcl::Triangle> triangles;
+};
+
+FclMesh to_fcl_input(const Mesh& mesh) {
+  FclMesh out;
+  for (const Vec3& v : mesh.vertices) out.vertices.emplace_back(v.x(), v.y(), v.z());
+  for (const Triangle& t : mesh.triangles) out.triangles.emplace_back(t[0], t[1], t[2]);
+  return out;
+}
+
+template <class BV>
+struct FclResult {
+  double seconds = 0;
+  double sum_volume = 0;
+  std::size_t nodes = 0;
+  std::size_t bytes = 0;
+};
+
+template <class BV>
+FclResult<BV> fcl_build(const FclMesh& input, int repeats) {
+  FclResult<BV> r;
+  r.seconds = median_seconds(repeats, [&] {
+    fcl::BVHModel<BV> model;
+    model.beginModel(static_cast<int>(input.triangles.size()), static_cast<int>(input.vertices.size()));
+    model.addSubModel(input.vertices, input.triangles);
+    model.endModel();
+    r.nodes = static_cast<std::size_t>(model.getNumBVs());
+    r.sum_volume = 0;
+    for (int i = 0; i < model.getNumBVs(); ++i) r.sum_volume += model.getBV(i).bv.volume();
+  });
+  // The tree proper: the node array and the primitive index array (vertices/triangles not counted).
+  r.bytes = r.nodes * sizeof(fcl::BVNode<BV>) + input.triangles.size() * sizeof(unsigned int);
+  return r;
+}
+
+struct OurResult {
+  bool ok = false;
+  double seconds = 0;
+  TreeStats stats;
+};
+
+OurResult our_build(const Mesh& mesh, const BuildOptions& options, int repeats) {
+  OurResult r;
+  if (const auto* m = std::get_if<FitMethod>(&options.fitter); m && !available(*m)) return r;
+  if (const auto* a = std::get_if<AutoFit>(&options.fitter); a && !(available(a->tight) && available(a->cheap)))
+    return r;
+  Tree tree;
+  r.seconds = median_seconds(repeats, [&] { tree = build(mesh, options); });
+  if (const TreeCheck check = validate(tree, mesh); !check.ok())
+    throw std::runtime_error("invalid tree: " + check.errors[0]);
+  r.stats = tree_stats(tree);
+  r.ok = true;
+  return r;
+}
+
+BuildOptions options_for(const Fitter& fitter, unsigned threads, SplitMethod split = SplitMethod::rapid) {
+  BuildOptions o;
+  o.fitter = fitter;
+  o.threads = threads;
+  o.split = split;
+  return o;
+}
+
+std::string fmt(double v, const char* f = "%.3g") {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+std::string name_of(const std::filesystem::path& p) { return p.filename().string(); }
+
+std::vector<std::filesystem::path> default_meshes() {
+  const std::filesystem::path root = TIGHTBVH_SOURCE_DIR;
+  std::vector<std::filesystem::path> out{root / "meshes/elephant.off", root / "meshes/knot1.off"};
+  for (const char* name : {"cow.off", "ChineseDragon-10kv.off", "camel.off", "fandisk_large.off", "man.off",
+                           "armadillo.off", "bunny00.off", "refined_elephant.off"}) {
+    const auto p = root / "meshes/corpus/cgal" / name;
+    if (std::filesystem::exists(p)) out.push_back(p);
+  }
+  return out;
+}
+
+// ------------------------------------------------------------------ main comparison
+
+int compare(const std::vector<std::filesystem::path>& meshes, int repeats, unsigned threads, const std::string& json_out) {
+  nlohmann::json all = nlohmann::json::array();
+  std::printf("threads = %u for our builds (FCL is single-threaded); times are medians of %d runs\n", threads, repeats);
+  const unsigned all_threads = std::max(1u, std::thread::hardware_concurrency());
+  std::printf("pca T%u: our pca build with all %u hardware threads\n", all_threads, all_threads);
+  std::printf("| mesh | triangles | FCL OBB s | FCL OBBRSS s | pca s | FCL OBB / pca | pca T%u s | FCL OBB / pca T%u | approx s |",
+              all_threads, all_threads);
+  std::printf(" approx / pca | auto s | "
+              "auto / pca | vol approx/pca | vol auto/pca | vol FCL-OBB/pca | B/tri ours | B/tri FCL OBB |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const auto& path : meshes) {
+    const Mesh mesh = load_mesh(path);
+    const FclMesh input = to_fcl_input(mesh);
+    const auto obb = fcl_build<fcl::OBBd>(input, repeats);
+    const auto obbrss = fcl_build<fcl::OBBRSSd>(input, repeats);
+    const OurResult pca = our_build(mesh, options_for(FitMethod::pca, threads), repeats);
+    const OurResult pca_all = our_build(mesh, options_for(FitMethod::pca, all_threads), repeats);
+    const OurResult approx = our_build(mesh, options_for(FitMethod::approx, threads), repeats);
+    const OurResult automatic = our_build(mesh, options_for(AutoFit{}, threads), repeats);
+    const auto ratio = [](const OurResult& a, double b, bool volume) -> std::string {
+      if (!a.ok) return "n/a";
+      return fmt((volume ? a.stats.sum_volume : a.seconds) / b, "%.3f");
+    };
+    const auto secs = [](const OurResult& a) { return a.ok ? fmt(a.seconds, "%.4f") : std::string("n/a"); };
+    std::printf("| %s | %zu | %.4f | %.4f | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %.3f | %.1f | %.1f |\n",
+                name_of(path).c_str(), mesh.triangles.size(), obb.seconds, obbrss.seconds, secs(pca).c_str(),
+                fmt(obb.seconds / pca.seconds, "%.2f").c_str(), secs(pca_all).c_str(),
+                fmt(obb.seconds / pca_all.seconds, "%.2f").c_str(), secs(approx).c_str(),
+                ratio(approx, pca.seconds, false).c_str(), secs(automatic).c_str(),
+                ratio(automatic, pca.seconds, false).c_str(), ratio(approx, pca.stats.sum_volume, true).c_str(),
+                ratio(automatic, pca.stats.sum_volume, true).c_str(), obb.sum_volume / pca.stats.sum_volume,
+                pca.stats.bytes_per_triangle, static_cast<double>(obb.bytes) / mesh.triangles.size());
+    std::fflush(stdout);
+    const auto ours = [](const OurResult& r) -> nlohmann::json {
+      if (!r.ok) return nullptr;
+      return {{"seconds", r.seconds}, {"sum_volume", r.stats.sum_volume}, {"nodes", r.stats.nodes},
+              {"depth_max", r.stats.depth_max}, {"bytes", r.stats.bytes}};
+    };
+    all.push_back({{"mesh", name_of(path)},
+                   {"triangles", mesh.triangles.size()},
+                   {"fcl_obb", {{"seconds", obb.seconds}, {"sum_volume", obb.sum_volume}, {"nodes", obb.nodes}, {"bytes", obb.bytes}}},
+                   {"fcl_obbrss", {{"seconds", obbrss.seconds}, {"nodes", obbrss.nodes}, {"bytes", obbrss.bytes}}},
+                   {"pca", ours(pca)},
+                   {"pca_all_threads", ours(pca_all)},
+                   {"approx", ours(approx)},
+                   {"auto", ours(automatic)}});
+  }
+  if (!json_out.empty()) std::ofstream(json_out) << all.dump(2) << '\n';
+  return 0;
+}
+
+// ------------------------------------------------------------------ split methods
+
+int splits(const std::vector<std::filesystem::path>& meshes, unsigned threads) {
+  std::printf("sum of node volumes (and build seconds, max depth) per split; leaf size 1\n");
+  std::printf("| mesh | fitter | rapid | median | binned | median/rapid | binned/rapid |\n|---|---|---|---|---|---|---|\n");
+  for (const auto& path : meshes) {
+    const Mesh mesh = load_mesh(path);
+    for (const Fitter fitter : {Fitter{FitMethod::pca}, Fitter{AutoFit{}}}) {
+      OurResult r[3];
+      int i = 0;
+      for (const SplitMethod split : {SplitMethod::rapid, SplitMethod::median, SplitMethod::binned})
+        r[i++] = our_build(mesh, options_for(fitter, threads, split), 1);
+      if (!r[0].ok) continue;
+      const auto cell = [](const OurResult& x) {
+        return fmt(x.stats.sum_volume, "%.4g") + " (" + fmt(x.seconds, "%.3f") + " s, d" +
+               std::to_string(x.stats.depth_max) + ")";
+      };
+      std::printf("| %s | %s | %s | %s | %s | %.3f | %.3f |\n", name_of(path).c_str(), to_string(fitter).c_str(),
+                  cell(r[0]).c_str(), cell(r[1]).c_str(), cell(r[2]).c_str(),
+                  r[1].stats.sum_volume / r[0].stats.sum_volume, r[2].stats.sum_volume / r[0].stats.sum_volume);
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
+
+// ------------------------------------------------------------------ auto threshold
+
+int auto_sweep(const std::vector<std::filesystem::path>& meshes, unsigned threads, int repeats) {
+  std::printf("auto = approx on nodes with >= T triangles, pca below; time and sum volume relative to pca\n");
+  std::printf("| mesh | T | seconds | time / pca | volume / pca | volume / approx |\n|---|---|---|---|---|---|\n");
+  for (const auto& path : meshes) {
+    const Mesh mesh = load_mesh(path);
+    const OurResult pca = our_build(mesh, options_for(FitMethod::pca, threads), repeats);
+    const OurResult approx = our_build(mesh, options_for(FitMethod::approx, threads), repeats);
+    if (!approx.ok) {
+      std::printf("| %s | approx not available | | | | |\n", name_of(path).c_str());
+      continue;
+    }
+    for (const std::uint32_t t : {2u, 16u, 64u, 256u, 1024u, 4096u}) {
+      const OurResult r = our_build(mesh, options_for(AutoFit{.tight_min_triangles = t}, threads), repeats);
+      std::printf("| %s | %u | %.4f | %.2f | %.4f | %.4f |\n", name_of(path).c_str(), t, r.seconds, r.seconds / pca.seconds,
+                  r.stats.sum_volume / pca.stats.sum_volume, r.stats.sum_volume / approx.stats.sum_volume);
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
+
+// ------------------------------------------------------------------ scale
+
+// Loop subdivision without smoothing: each triangle into four, midpoints shared by edge.
+Mesh subdivide(const Mesh& mesh) {
+  Mesh out;
+  out.vertices = mesh.vertices;
+  out.triangles.reserve(mesh.triangles.size() * 4);
+  std::unordered_map<std::uint64_t, std::uint32_t> midpoint;
+  midpoint.reserve(mesh.triangles.size() * 2);
+  const auto mid = [&](std::uint32_t a, std::uint32_t b) {
+    const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+    const auto [it, inserted] = midpoint.try_emplace(key, static_cast<std::uint32_t>(out.vertices.size()));
+    if (inserted) out.vertices.push_back(0.5 * (mesh.vertices[a] + mesh.vertices[b]));
+    return it->second;
+  };
+  for (const Triangle& t : mesh.triangles) {
+    const std::uint32_t ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
+    out.triangles.push_back({t[0], ab, ca});
+    out.triangles.push_back({ab, t[1], bc});
+    out.triangles.push_back({ca, bc, t[2]});
+    out.triangles.push_back({ab, bc, ca});
+  }
+  return out;
+}
+
+double peak_mib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: KiB
+}
+
+int scale(const std::filesystem::path& path, std::size_t triangles, const std::string& fitter_name, unsigned threads,
+          bool check) {
+  const auto fitter = parse_fitter(fitter_name);
+  if (!fitter) throw std::runtime_error("unknown fitter " + fitter_name);
+  Mesh mesh = load_mesh(path);
+  while (mesh.triangles.size() < triangles) mesh = subdivide(mesh);
+  const double before = peak_mib();
+  const auto start = Clock::now();
+  const Tree tree = build(mesh, options_for(*fitter, threads));
+  const double seconds = seconds_since(start);
+  const double after = peak_mib();
+  const TreeStats s = tree_stats(tree);
+  std::string valid = "not checked";
+  if (check) valid = validate(tree, mesh).ok() ? "valid" : "INVALID";
+  std::printf("| %s x%zu | %s | %u | %zu | %.2f | %.0f | %.0f | %.1f | %zu | %s |\n", name_of(path).c_str(),
+              mesh.triangles.size(), fitter_name.c_str(), threads, mesh.triangles.size(), seconds, before, after,
+              static_cast<double>(s.bytes) / (1024.0 * 1024.0), s.depth_max, valid.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    std::vector<std::filesystem::path> meshes;
+    std::string mode = "compare", json_out, fitter = "pca";
+    int repeats = 3;
+    unsigned threads = 1;
+    std::size_t triangles = 1000000;
+    bool check = false;
+    for (int i = 1; i < argc; ++i) {
+      const std::string a = argv[i];
+      const auto next = [&]() -> std::string {
+        if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
+        return argv[++i];
+      };
+      if (a == "--splits") mode = "splits";
+      else if (a == "--auto-sweep") mode = "auto";
+      else if (a == "--scale") mode = "scale";
+      else if (a == "--repeats") repeats = std::stoi(next());
+      else if (a == "--threads") threads = static_cast<unsigned>(std::stoul(next()));
+      else if (a == "--json") json_out = next();
+      else if (a == "--fitter") fitter = next();
+      else if (a == "--triangles") triangles = std::stoul(next());
+      else if (a == "--validate") check = true;
+      else if (a.rfind("--", 0) == 0) throw std::runtime_error("unknown option " + a);
+      else meshes.emplace_back(a);
+    }
+    if (meshes.empty()) meshes = default_meshes();
+    if (mode == "splits") return splits(meshes, threads);
+    if (mode == "auto") return auto_sweep(meshes, threads, repeats);
+    if (mode == "scale") return scale(meshes.at(0), triangles, fitter, threads, check);
+    return compare(meshes, repeats, threads, json_out);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tightbvh-build-bench: error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -7,15 +7,17 @@
 // two closed sets share at least one point. Shared vertices, shared edges, a vertex on the other
 // triangle's face or edge, and coplanar overlap all count as contact.
 //
-// Degenerate triangles (zero area: (b - a) x (c - a) == 0 exactly, the same criterion as
-// tightbvh::validate) are the closed point sets they are: a segment (between the two corners
-// farthest apart) or a single point, tested as segment/point against the other primitive.
+// Degenerate triangles (exactly collinear corners, zero area) are the closed point sets they
+// are: a segment (between the two extreme corners) or a single point, tested as segment/point
+// against the other primitive.
 //
-// Arithmetic is plain double precision; every decision is a sign test of an orientation
-// determinant (never a division), so configurations whose determinants are computed exactly
-// (e.g. small-integer or dyadic coordinates) get the exact answer, including touching cases.
-// The test is symmetric by construction (tri_tri_overlap(a, b) == tri_tri_overlap(b, a) bit for
-// bit): the pair is put in a canonical order before testing.
+// Exact: every decision is the sign of an orientation determinant (never a division), evaluated
+// in double precision with a forward error bound and, when that cannot decide, exactly with
+// floating-point expansions (Shewchuk 1997). The answer is therefore the exact answer for the
+// given double coordinates (assuming no overflow/underflow: |coordinates| within ~1e+-100): it
+// is symmetric (tri_tri_overlap(a, b) == tri_tri_overlap(b, a)), independent of the order of
+// the corners, and exactly right for touching, coplanar and degenerate configurations. Under a
+// rigid motion the coordinates are rounded, so only pairs within rounding of contact can change.
 #include <array>
 
 #include "tightbvh/pose.hpp"

@@ -1,0 +1,223 @@
+#pragma once
+// Exact orientation predicates for double coordinates (internal to src/collide).
+//
+// Each predicate first evaluates the determinant in double precision with a forward error bound
+// (a static filter in the style of Shewchuk 1997, "Adaptive Precision Floating-Point Arithmetic
+// and Fast Robust Geometric Predicates"); only when the result is within the bound is it
+// recomputed exactly with floating-point expansions (error-free sums and products, Knuth /
+// Dekker; expansion growth and scaling, Shewchuk Section 2). The returned sign is the sign of the
+// exact determinant of the given doubles. Assumes no overflow (|coordinates| < ~1e100).
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+#include "tightbvh/pose.hpp"
+
+namespace tightbvh::detail {
+
+inline constexpr double kUnitRoundoff = 1.1102230246251565e-16;  // 2^-53
+// Forward error bounds (generous: Shewchuk's are (3 + 16u)u and (7 + 56u)u).
+inline constexpr double kOrient2dBound = 8.0 * kUnitRoundoff;
+inline constexpr double kOrient3dBound = 16.0 * kUnitRoundoff;
+
+// ---------------------------------------------------------------- error-free transformations
+inline void two_sum(double a, double b, double& x, double& y) {
+  x = a + b;
+  const double bv = x - a;
+  const double av = x - bv;
+  y = (a - av) + (b - bv);
+}
+
+// Requires |a| >= |b| (or a == 0).
+inline void fast_two_sum(double a, double b, double& x, double& y) {
+  x = a + b;
+  y = b - (x - a);
+}
+
+inline void two_product(double a, double b, double& x, double& y) {
+  x = a * b;
+#if defined(__FMA__) || defined(__FP_FAST_FMA)
+  y = std::fma(a, b, -x);
+#else
+  // Dekker's split (no FMA instructions exist, so nothing can be contracted here).
+  constexpr double kSplitter = 134217729.0;  // 2^27 + 1
+  double c = kSplitter * a;
+  const double ahi = c - (c - a), alo = a - ahi;
+  c = kSplitter * b;
+  const double bhi = c - (c - b), blo = b - bhi;
+  y = alo * blo - (((x - ahi * bhi) - alo * bhi) - ahi * blo);
+#endif
+}
+
+// ---------------------------------------------------------------- expansions
+// A value represented as the exact sum of non-overlapping doubles in increasing magnitude, with
+// zero components eliminated. Capacity N.
+template <int N>
+struct Expansion {
+  double c[N];
+  int n = 0;
+
+  // this += b (GROW-EXPANSION, in place: component i is read before position <= i is written).
+  void add(double b) {
+    if (b == 0.0) return;
+    double q = b;
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      double sum, err;
+      two_sum(q, c[i], sum, err);
+      q = sum;
+      if (err != 0.0) c[m++] = err;
+    }
+    if (q != 0.0 || m == 0) c[m++] = q;
+    n = m;
+  }
+  // this += f, f a non-overlapping expansion of fn components (FAST-EXPANSION-SUM, Shewchuk
+  // Theorem 13: merge the components by magnitude, then an error-free running sum; the output is
+  // non-overlapping under round-to-nearest-even).
+  void add(const double* f, int fn) {
+    double merged[N];
+    const int total = static_cast<int>(
+        std::merge(c, c + n, f, f + fn, merged, [](double x, double y) { return std::abs(x) < std::abs(y); }) - merged);
+    if (total == 0) return;
+    double q = merged[0];
+    int m = 0;
+    for (int i = 1; i < total; ++i) {
+      double sum, err;
+      two_sum(q, merged[i], sum, err);
+      if (err != 0.0) c[m++] = err;
+      q = sum;
+    }
+    if (q != 0.0 || m == 0) c[m++] = q;
+    n = m;
+  }
+  [[nodiscard]] int sign() const { return n == 0 ? 0 : (c[n - 1] > 0.0) - (c[n - 1] < 0.0); }
+};
+
+// s * a * b * c added exactly to `out` (s = +1 or -1).
+template <int N>
+inline void add_triple_product(Expansion<N>& out, double s, double a, double b, double c) {
+  double p, e;
+  two_product(s * a, b, p, e);
+  // (e, p) scaled by c: SCALE-EXPANSION (Shewchuk Theorem 19) on a two-component expansion.
+  double h[4];
+  int k = 0;
+  double q, lo;
+  two_product(e, c, q, lo);
+  if (lo != 0.0) h[k++] = lo;
+  double t_hi, t_lo;
+  two_product(p, c, t_hi, t_lo);
+  double sum;
+  two_sum(q, t_lo, sum, lo);
+  if (lo != 0.0) h[k++] = lo;
+  fast_two_sum(t_hi, sum, q, lo);
+  if (lo != 0.0) h[k++] = lo;
+  if (q != 0.0) h[k++] = q;
+  out.add(h, k);
+}
+
+// ---------------------------------------------------------------- orient2d
+// Sign of (b - a) x (c - a) for 2D points given as (ax, ay), ...
+[[nodiscard]] inline int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) {
+  // (b - a) x (c - a) = a x b + b x c + c x a.
+  Expansion<13> e;
+  const auto add_product = [&e](double s, double u, double v) {
+    double p, err;
+    two_product(s * u, v, p, err);
+    e.add(err);
+    e.add(p);
+  };
+  add_product(1, ax, by), add_product(-1, ay, bx);
+  add_product(1, bx, cy), add_product(-1, by, cx);
+  add_product(1, cx, ay), add_product(-1, cy, ax);
+  return e.sign();
+}
+
+[[nodiscard]] inline int orient2d(double ax, double ay, double bx, double by, double cx, double cy) {
+  const double l = (bx - ax) * (cy - ay), r = (by - ay) * (cx - ax);
+  const double det = l - r;
+  const double bound = kOrient2dBound * (std::abs(l) + std::abs(r));
+  if (det > bound) return 1;
+  if (-det > bound) return -1;
+  if (bound == 0.0) return 0;  // an exactly zero difference in both products
+  if ((ax == bx && ay == by) || (ax == cx && ay == cy) || (bx == cx && by == cy)) return 0;
+  return orient2d_exact(ax, ay, bx, by, cx, cy);
+}
+
+// ---------------------------------------------------------------- orient3d
+// Sign of det[b - a, c - a, d - a] = ((b - a) x (c - a)) . (d - a): > 0 iff d is on the side of
+// plane (a, b, c) that (b - a) x (c - a) points to.
+[[nodiscard]] inline int orient3d_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  // Fast exact case: when the differences b - a, c - a, d - a are exact doubles (Sterbenz:
+  // close coordinates), det[u, v, w] is the sum of six products of three doubles.
+  const Vec3 u = b - a, v = c - a, w = d - a;
+  const auto exact_difference = [](double x, double y, double diff) {
+    double s, e;
+    two_sum(x, -y, s, e);
+    return e == 0.0 && s == diff;
+  };
+  bool exact = true;
+  for (int k = 0; k < 3 && exact; ++k)
+    exact = exact_difference(b[k], a[k], u[k]) && exact_difference(c[k], a[k], v[k]) && exact_difference(d[k], a[k], w[k]);
+  if (exact) {
+    Expansion<6 * 4 + 1> e;
+    add_triple_product(e, 1, u.x(), v.y(), w.z());
+    add_triple_product(e, -1, u.x(), v.z(), w.y());
+    add_triple_product(e, -1, u.y(), v.x(), w.z());
+    add_triple_product(e, 1, u.y(), v.z(), w.x());
+    add_triple_product(e, 1, u.z(), v.x(), w.y());
+    add_triple_product(e, -1, u.z(), v.y(), w.x());
+    return e.sign();
+  }
+  // General case: det[b - a, c - a, d - a] = [b, c, d] - [a, c, d] + [a, b, d] - [a, b, c], with
+  // the triple product [x, y, z] = x . (y x z) expanded into six products of three coordinates.
+  Expansion<24 * 4 + 1> e;
+  const auto triple = [&e](double s, const Vec3& x, const Vec3& y, const Vec3& z) {
+    add_triple_product(e, s, x.x(), y.y(), z.z());
+    add_triple_product(e, -s, x.x(), y.z(), z.y());
+    add_triple_product(e, -s, x.y(), y.x(), z.z());
+    add_triple_product(e, s, x.y(), y.z(), z.x());
+    add_triple_product(e, s, x.z(), y.x(), z.y());
+    add_triple_product(e, -s, x.z(), y.y(), z.x());
+  };
+  triple(1, b, c, d);
+  triple(-1, a, c, d);
+  triple(1, a, b, d);
+  triple(-1, a, b, c);
+  return e.sign();
+}
+
+// A plane through (a, b, c) prepared for many orient3d queries against it.
+struct OrientPlane {
+  const Vec3* a;
+  const Vec3* b;
+  const Vec3* c;
+  Vec3 normal;     // (b - a) x (c - a), rounded
+  Vec3 permanent;  // the same with |.| on every product: bounds the rounding error
+  bool repeated;   // two of a, b, c coincide: every orientation is zero
+
+  OrientPlane(const Vec3& pa, const Vec3& pb, const Vec3& pc)
+      : a(&pa), b(&pb), c(&pc), repeated(pa == pb || pa == pc || pb == pc) {
+    const Vec3 u = pb - pa, v = pc - pa;
+    normal = u.cross(v);
+    permanent = Vec3(std::abs(u.y() * v.z()) + std::abs(u.z() * v.y()), std::abs(u.z() * v.x()) + std::abs(u.x() * v.z()),
+                     std::abs(u.x() * v.y()) + std::abs(u.y() * v.x()));
+  }
+
+  [[nodiscard]] int sign(const Vec3& d) const {
+    const Vec3 w = d - *a;
+    const double det = normal.dot(w);
+    const double bound = kOrient3dBound * permanent.dot(w.cwiseAbs());
+    if (det > bound) return 1;
+    if (-det > bound) return -1;
+    // A zero bound means every product has an exactly zero difference as a factor (e.g. all
+    // four points on a plane z = const): the exact determinant is zero.
+    if (bound == 0.0 || repeated || d == *a || d == *b || d == *c) return 0;
+    return orient3d_exact(*a, *b, *c, d);
+  }
+};
+
+[[nodiscard]] inline int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  return OrientPlane(a, b, c).sign(d);
+}
+
+}  // namespace tightbvh::detail

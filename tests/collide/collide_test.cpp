@@ -1,0 +1,333 @@
+#include "tightbvh/collide.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <optional>
+#include <random>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "tightbvh/build.hpp"
+#include "tightbvh/tri_tri.hpp"
+
+namespace tightbvh {
+namespace {
+
+constexpr FitMethod kAllFitters[] = {FitMethod::aabb,     FitMethod::pca,    FitMethod::pca_vertex, FitMethod::diameter,
+                                     FitMethod::approx,   FitMethod::approx_snap, FitMethod::exact};
+
+// The tree for `fitter`, or nothing if that fitter is not implemented yet (std::logic_error).
+std::optional<Tree> try_build(const Mesh& mesh, FitMethod fitter, std::uint32_t leaf_size = 1) {
+  try {
+    return build(mesh, {.fitter = fitter, .leaf_size = leaf_size, .threads = 1});
+  } catch (const std::logic_error&) {
+    return std::nullopt;
+  }
+}
+
+// ------------------------------------------------------------------ meshes
+Mesh cube(const Vec3& lo = Vec3::Zero(), double size = 1.0) {
+  Mesh m;
+  for (int i = 0; i < 8; ++i)
+    m.vertices.push_back(lo + size * Vec3((i & 1) ? 1 : 0, (i & 2) ? 1 : 0, (i & 4) ? 1 : 0));
+  // Two triangles per face, outward.
+  m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return m;
+}
+
+Mesh uv_sphere(int rings, int sectors, double radius = 1.0) {
+  Mesh m;
+  m.vertices.push_back(Vec3(0, 0, radius));
+  for (int r = 1; r < rings; ++r)
+    for (int s = 0; s < sectors; ++s) {
+      const double th = M_PI * r / rings, ph = 2 * M_PI * s / sectors;
+      m.vertices.push_back(radius * Vec3(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)));
+    }
+  m.vertices.push_back(Vec3(0, 0, -radius));
+  const auto ring = [&](int r, int s) { return static_cast<std::uint32_t>(1 + (r - 1) * sectors + (s % sectors)); };
+  const auto south = static_cast<std::uint32_t>(m.vertices.size() - 1);
+  for (int s = 0; s < sectors; ++s) {
+    m.triangles.push_back({0, ring(1, s), ring(1, s + 1)});
+    for (int r = 1; r + 1 < rings; ++r) {
+      m.triangles.push_back({ring(r, s), ring(r + 1, s), ring(r + 1, s + 1)});
+      m.triangles.push_back({ring(r, s), ring(r + 1, s + 1), ring(r, s + 1)});
+    }
+    m.triangles.push_back({ring(rings - 1, s), south, ring(rings - 1, s + 1)});
+  }
+  return m;
+}
+
+// Random triangles in a cube of side 2, some of them degenerate (segments and points).
+Mesh random_soup(int n, std::uint64_t seed, double size = 0.4) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Mesh m;
+  for (int i = 0; i < n; ++i) {
+    const Vec3 c(u(rng), u(rng), u(rng));
+    const Vec3 a = c + size * Vec3(u(rng), u(rng), u(rng));
+    const Vec3 b = c + size * Vec3(u(rng), u(rng), u(rng));
+    Vec3 d = c + size * Vec3(u(rng), u(rng), u(rng));
+    if (i % 10 == 3) d = a + 0.5 * (b - a);  // collinear up to rounding
+    if (i % 10 == 7) d = a + 0.25 * (b - a) * 4.0;  // repeated corner b (exact segment)
+    const auto k = static_cast<std::uint32_t>(m.vertices.size());
+    m.vertices.insert(m.vertices.end(), {a, b, d});
+    if (i % 10 == 9)
+      m.triangles.push_back({k, k, k});  // a point
+    else
+      m.triangles.push_back({k, k + 1, k + 2});
+  }
+  return m;
+}
+
+// Every k-th triangle of a shipped mesh (a decimated soup: small enough for brute force).
+Mesh subset(const Mesh& mesh, std::size_t k) {
+  Mesh m;
+  m.vertices = mesh.vertices;
+  for (std::size_t i = 0; i < mesh.triangles.size(); i += k) m.triangles.push_back(mesh.triangles[i]);
+  return m;
+}
+
+Mesh shipped(const std::string& relative) { return load_mesh(std::string(TIGHTBVH_SOURCE_DIR) + "/" + relative); }
+
+// ------------------------------------------------------------------ poses
+struct Sphere {
+  Vec3 center;
+  double radius;
+};
+Sphere bounding_sphere(const Mesh& m) {
+  Aabb box;
+  for (const Vec3& v : m.vertices) box.extend(v);
+  return {box.center(), 0.5 * box.diagonal()};
+}
+
+Mat3 random_rotation(std::mt19937_64& rng) {
+  std::normal_distribution<double> n;
+  return Eigen::Quaterniond(Eigen::Vector4d(n(rng), n(rng), n(rng), n(rng)).normalized()).toRotationMatrix();
+}
+
+// Poses (pa, pb) putting B's center at `gap` times (rA + rB) from A's center: deep overlap,
+// near contact and separated configurations.
+std::vector<std::pair<Pose, Pose>> random_poses(const Mesh& ma, const Mesh& mb, std::uint64_t seed,
+                                                std::initializer_list<double> gaps = {0.0, 0.2, 0.5, 0.7, 0.85, 1.1}) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n;
+  const Sphere sa = bounding_sphere(ma), sb = bounding_sphere(mb);
+  std::vector<std::pair<Pose, Pose>> poses;
+  for (const double gap : gaps) {
+    Pose pa{random_rotation(rng), Vec3(n(rng), n(rng), n(rng))};
+    const Vec3 dir = Vec3(n(rng), n(rng), n(rng)).normalized();
+    const Vec3 world_center_b = pa.apply(sa.center) + gap * (sa.radius + sb.radius) * dir;
+    Pose pb{random_rotation(rng), Vec3::Zero()};
+    pb.translation = world_center_b - pb.rotation * sb.center;
+    poses.push_back({pa, pb});
+  }
+  return poses;
+}
+
+// ------------------------------------------------------------------ the property
+// all_pairs == brute force (same predicate), first_hit == (brute force non-empty), for every
+// fitter available. Returns the number of (fitter, pose) cases with contact.
+int expect_matches_brute_force(const Mesh& ma, const Mesh& mb, std::uint64_t seed, std::uint32_t leaf_size = 1) {
+  const auto poses = random_poses(ma, mb, seed);
+  std::vector<QueryResult> reference;
+  for (const auto& [pa, pb] : poses) reference.push_back(collide_brute_force(ma, pa, mb, pb, {.mode = QueryMode::all_pairs}));
+  int fitters = 0, contacts = 0;
+  for (const FitMethod fitter : kAllFitters) {
+    const auto ta = try_build(ma, fitter, leaf_size), tb = try_build(mb, fitter, leaf_size);
+    if (!ta || !tb) continue;
+    ++fitters;
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+      const auto& [pa, pb] = poses[i];
+      SCOPED_TRACE("fitter " + std::string(to_string(fitter)) + ", pose " + std::to_string(i));
+      const QueryResult all = collide(*ta, ma, pa, *tb, mb, pb, {.mode = QueryMode::all_pairs});
+      EXPECT_EQ(all.pairs, reference[i].pairs);
+      EXPECT_EQ(all.hit, !reference[i].pairs.empty());
+      EXPECT_GT(all.stats.box_tests, 0u);
+      const QueryResult first = collide(*ta, ma, pa, *tb, mb, pb, {.mode = QueryMode::first_hit});
+      EXPECT_EQ(first.hit, reference[i].hit);
+      EXPECT_EQ(first.pairs.size(), first.hit ? 1u : 0u);
+      if (first.hit) {
+        EXPECT_TRUE(std::binary_search(reference[i].pairs.begin(), reference[i].pairs.end(), first.pairs[0]));
+        EXPECT_LE(first.stats.triangle_tests, all.stats.triangle_tests);
+      }
+      // The other descent rule must find the same pairs.
+      const QueryResult other =
+          collide(*ta, ma, pa, *tb, mb, pb, {.mode = QueryMode::all_pairs, .descend = DescendRule::larger_extent});
+      EXPECT_EQ(other.pairs, reference[i].pairs);
+      contacts += all.hit;
+    }
+  }
+  EXPECT_GE(fitters, 2) << "aabb and pca at least";
+  return contacts;
+}
+
+TEST(Collide, MatchesBruteForceSmallSynthetic) {
+  const Mesh sphere = uv_sphere(8, 12);
+  const Mesh soup = random_soup(120, 1);
+  EXPECT_GT(expect_matches_brute_force(sphere, soup, 10), 0);
+  EXPECT_GT(expect_matches_brute_force(soup, random_soup(80, 2), 11, 4), 0);  // leaves of 4
+  EXPECT_GT(expect_matches_brute_force(cube(), sphere, 12), 0);
+}
+
+TEST(Collide, MatchesBruteForceMediumShipped) {
+  // Decimated shipped meshes (every k-th triangle) and a small corpus mesh.
+  const Mesh knot = subset(shipped("meshes/knot1.off"), 8);          // 800 triangles
+  const Mesh elephant = subset(shipped("meshes/elephant.off"), 6);   // ~930 triangles
+  EXPECT_GT(expect_matches_brute_force(knot, elephant, 20), 0);
+  const Mesh anchor = shipped("meshes/corpus/cgal/anchor.off");      // 1050 triangles
+  EXPECT_GT(expect_matches_brute_force(anchor, knot, 21), 0);
+}
+
+TEST(Collide, BatchIsIdenticalForAnyThreadCount) {
+  const Mesh a = subset(shipped("meshes/knot1.off"), 4);
+  const Mesh b = uv_sphere(10, 16, 0.3);
+  const Tree ta = build(a, {.fitter = FitMethod::pca, .threads = 1});
+  const Tree tb = build(b, {.fitter = FitMethod::pca, .threads = 1});
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-0.6, 0.6);
+  std::vector<Pose> poses;
+  for (int i = 0; i < 40; ++i) poses.push_back({random_rotation(rng), Vec3(u(rng), u(rng), u(rng))});
+  const Pose pa = Pose::identity();
+  for (const QueryMode mode : {QueryMode::first_hit, QueryMode::all_pairs}) {
+    const auto serial = collide_batch(ta, a, pa, tb, b, poses, {.mode = mode}, 1);
+    ASSERT_EQ(serial.size(), poses.size());
+    int hits = 0;
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+      const QueryResult single = collide(ta, a, pa, tb, b, poses[i], {.mode = mode});
+      EXPECT_EQ(serial[i].pairs, single.pairs);
+      EXPECT_EQ(serial[i].stats, single.stats);
+      hits += serial[i].hit;
+    }
+    EXPECT_GT(hits, 0);
+    EXPECT_LT(hits, 40);
+    for (const unsigned threads : {2u, 3u, 8u, 0u}) {
+      const auto parallel = collide_batch(ta, a, pa, tb, b, poses, {.mode = mode}, threads);
+      ASSERT_EQ(parallel.size(), poses.size());
+      for (std::size_t i = 0; i < poses.size(); ++i) {
+        EXPECT_EQ(parallel[i].hit, serial[i].hit) << "threads " << threads << " pose " << i;
+        EXPECT_EQ(parallel[i].pairs, serial[i].pairs) << "threads " << threads << " pose " << i;
+        EXPECT_EQ(parallel[i].stats, serial[i].stats) << "threads " << threads << " pose " << i;
+      }
+    }
+  }
+  EXPECT_TRUE(collide_batch(ta, a, pa, tb, b, {}, {}, 4).empty());
+}
+
+// ------------------------------------------------------------------ edge cases
+// The pairs for every available fitter, checked equal to brute force; returns them.
+std::vector<TrianglePair> all_pairs_every_fitter(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb) {
+  const QueryResult reference = collide_brute_force(ma, pa, mb, pb, {.mode = QueryMode::all_pairs});
+  for (const FitMethod fitter : kAllFitters) {
+    const auto ta = try_build(ma, fitter), tb = try_build(mb, fitter);
+    if (!ta || !tb) continue;
+    SCOPED_TRACE(std::string(to_string(fitter)));
+    EXPECT_EQ(collide(*ta, ma, pa, *tb, mb, pb, {.mode = QueryMode::all_pairs}).pairs, reference.pairs);
+    EXPECT_EQ(collide(*ta, ma, pa, *tb, mb, pb, {.mode = QueryMode::first_hit}).hit, reference.hit);
+  }
+  return reference.pairs;
+}
+
+TEST(CollideEdgeCases, CubesFaceToFace) {
+  const Mesh a = cube(), b = cube();
+  // B's face x = 0 exactly on A's face x = 1: touching. Each touching triangle pair lies in the
+  // plane x = 1 or meets it in an edge.
+  const auto pairs = all_pairs_every_fitter(a, Pose::identity(), b, Pose{Mat3::Identity(), Vec3(1, 0, 0)});
+  ASSERT_FALSE(pairs.empty());
+  // A's two triangles of face x = 1 ({1,3,5}, {3,7,5}: indices 10, 11) against B's two
+  // triangles of face x = 0 (indices 8, 9): coplanar and overlapping.
+  for (const std::uint32_t ia : {10u, 11u})
+    for (const std::uint32_t ib : {8u, 9u}) EXPECT_TRUE(std::binary_search(pairs.begin(), pairs.end(), TrianglePair{ia, ib}));
+  // Rotated 90 degrees about x (exactly, B spans [1,2] x [0,1] x [0,1]) and still face to face;
+  // then just apart.
+  Mat3 rx;
+  rx << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  EXPECT_FALSE(all_pairs_every_fitter(a, Pose::identity(), b, Pose{rx, Vec3(1, 1, 0)}).empty());
+  EXPECT_TRUE(all_pairs_every_fitter(a, Pose::identity(), b, Pose{rx, Vec3(1 + std::ldexp(1.0, -30), 1, 0)}).empty());
+  // Same contact with both meshes moved by a common pose.
+  const Pose common{rx, Vec3(0.5, -2, 4)};
+  EXPECT_EQ(all_pairs_every_fitter(a, common, b, common * Pose{Mat3::Identity(), Vec3(1, 0, 0)}), pairs);
+}
+
+TEST(CollideEdgeCases, SharedVertexOnly) {
+  // Two tetrahedra meeting only at the origin: the 3 x 3 triangles incident to it touch.
+  const Mesh a{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}};
+  const Mesh b{{{0, 0, 0}, {-1, 0, 0}, {0, -1, 0}, {0, 0, -1}}, {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}}};
+  const auto pairs = all_pairs_every_fitter(a, Pose::identity(), b, Pose::identity());
+  EXPECT_EQ(pairs.size(), 9u);
+  for (const auto& p : pairs) EXPECT_TRUE(p.a < 3 && p.b < 3);
+}
+
+TEST(CollideEdgeCases, CoplanarOverlappingSquares) {
+  const Mesh square{{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 3}}};
+  const auto pairs = all_pairs_every_fitter(square, Pose::identity(), square, Pose{Mat3::Identity(), Vec3(0.5, 0.5, 0)});
+  EXPECT_EQ(pairs.size(), 4u);  // every triangle of one meets every triangle of the other
+  EXPECT_TRUE(all_pairs_every_fitter(square, Pose::identity(), square, Pose{Mat3::Identity(), Vec3(0.5, 0.5, 1e-9)})
+                  .empty());
+}
+
+TEST(CollideEdgeCases, MeshAgainstItselfAtIdentity) {
+  // Every triangle touches itself and every triangle sharing a vertex with it.
+  for (const Mesh& mesh : {uv_sphere(8, 12), subset(shipped("meshes/knot1.off"), 1)}) {
+    std::map<std::uint32_t, std::vector<std::uint32_t>> incident;
+    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+      for (const std::uint32_t v : mesh.triangles[t]) incident[v].push_back(t);
+    std::set<TrianglePair> expected_subset;
+    for (const auto& [v, tris] : incident)
+      for (const std::uint32_t x : tris)
+        for (const std::uint32_t y : tris) expected_subset.insert({x, y});
+    for (const FitMethod fitter : {FitMethod::aabb, FitMethod::pca}) {
+      const Tree tree = build(mesh, {.fitter = fitter, .threads = 1});
+      const QueryResult r = collide(tree, mesh, Pose::identity(), tree, mesh, Pose::identity(), {.mode = QueryMode::all_pairs});
+      const std::set<TrianglePair> got(r.pairs.begin(), r.pairs.end());
+      EXPECT_EQ(got.size(), r.pairs.size());  // unique
+      EXPECT_TRUE(std::is_sorted(r.pairs.begin(), r.pairs.end()));
+      for (const TrianglePair& p : expected_subset) ASSERT_TRUE(got.count(p)) << p.a << " " << p.b;
+      // Symmetric: (x, y) touching iff (y, x) touching.
+      for (const TrianglePair& p : r.pairs) ASSERT_TRUE(got.count({p.b, p.a}));
+    }
+  }
+  // The sphere is small enough for brute force.
+  const Mesh sphere = uv_sphere(8, 12);
+  EXPECT_FALSE(all_pairs_every_fitter(sphere, Pose::identity(), sphere, Pose::identity()).empty());
+}
+
+TEST(CollideEdgeCases, DegenerateTriangles) {
+  // Segments and points against a triangle mesh and against each other.
+  Mesh degenerate;
+  degenerate.vertices = {{0, 0, -2}, {0, 0, 2}, {0, 0, 0.5}, {1, 0, 0}, {3, 0, 0}, {0.25, 0.25, 0.25}};
+  degenerate.triangles = {{0, 1, 2},   // a segment through the cube's center along z
+                          {3, 3, 3},   // a point
+                          {4, 4, 3},   // a segment from (3, 0, 0) to (1, 0, 0)
+                          {5, 5, 5}};  // a point inside the cube (touches nothing)
+  const Mesh box = cube(Vec3(-0.5, -0.5, -0.5));  // corners at +-0.5
+  const auto pairs = all_pairs_every_fitter(box, Pose::identity(), degenerate, Pose{Mat3::Identity(), Vec3(-0.5, 0, 0)});
+  // Shifted by -0.5 in x: the segment runs along x = -0.5 on the cube's face x = -0.5 (touches
+  // it and the faces it borders); the point lands at (0.5, 0, 0) on face x = +0.5; the second
+  // segment from (2.5, 0, 0) to (0.5, 0, 0) ends on that face; the inner point touches nothing.
+  std::set<std::uint32_t> touched;
+  for (const auto& p : pairs) touched.insert(p.b);
+  EXPECT_EQ(touched, (std::set<std::uint32_t>{0, 1, 2}));
+  // Random soups with ~30% degenerate triangles against themselves shifted.
+  const Mesh soup = random_soup(150, 9);
+  EXPECT_FALSE(all_pairs_every_fitter(soup, Pose::identity(), soup, Pose{Mat3::Identity(), Vec3(0.1, 0, 0)}).empty());
+}
+
+TEST(CollideEdgeCases, EmptyTreesAndRelativePose) {
+  const Mesh m = cube();
+  const Tree t = build(m, {.fitter = FitMethod::aabb, .threads = 1});
+  EXPECT_FALSE(collide(Tree{}, m, Pose::identity(), t, m, Pose::identity()).hit);
+  std::mt19937_64 rng(2);
+  const Pose pa{random_rotation(rng), Vec3(1, 2, 3)}, pb{random_rotation(rng), Vec3(-1, 0, 2)};
+  const Pose rel = relative_pose(pa, pb);
+  const Vec3 x(0.3, -0.2, 0.9);
+  EXPECT_LT((pa.apply(rel.apply(x)) - pb.apply(x)).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace tightbvh

@@ -1,0 +1,91 @@
+// The exact orientation predicates of src/collide (internal header), checked against 128-bit
+// integer arithmetic on nearly (and exactly) coplanar / collinear grid points. The exact
+// expansion path is also called directly on coordinates offset by 2^45, where the products it
+// sums are ~2^135 and cancel down to the small determinant.
+#include "../../src/collide/predicates.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace tightbvh::detail {
+namespace {
+
+using I128 = __int128;
+
+int sign128(I128 x) { return (x > 0) - (x < 0); }
+
+TEST(Predicates, Orient3dExactOnNearlyCoplanarGridPoints) {
+  std::mt19937_64 rng(17);
+  std::uniform_int_distribution<std::int64_t> coord(-(1 << 20), 1 << 20);
+  std::uniform_real_distribution<double> weight(-2.0, 2.0);
+  std::uniform_int_distribution<int> nudge(-1, 1);
+  const double scale = std::ldexp(1.0, -30);  // k * 2^-30 is exact in double
+  int signs[3] = {0, 0, 0};
+  for (int iter = 0; iter < 100000; ++iter) {
+    std::int64_t p[4][3];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) p[i][k] = coord(rng);
+    const bool exact_plane = iter % 3 == 0;  // integer weights, no nudge: exactly coplanar
+    const double s = exact_plane ? std::round(weight(rng)) : weight(rng);
+    const double t = exact_plane ? std::round(weight(rng)) : weight(rng);
+    for (int k = 0; k < 3; ++k)
+      p[3][k] = static_cast<std::int64_t>(std::llround(p[0][k] + s * (p[1][k] - p[0][k]) + t * (p[2][k] - p[0][k]))) +
+                (exact_plane ? 0 : nudge(rng));
+    I128 u[3], v[3], w[3];
+    for (int k = 0; k < 3; ++k) u[k] = p[1][k] - p[0][k], v[k] = p[2][k] - p[0][k], w[k] = p[3][k] - p[0][k];
+    const I128 det = w[0] * (u[1] * v[2] - u[2] * v[1]) + w[1] * (u[2] * v[0] - u[0] * v[2]) +
+                     w[2] * (u[0] * v[1] - u[1] * v[0]);
+    Vec3 q[4];
+    for (int i = 0; i < 4; ++i) q[i] = Vec3(p[i][0] * scale, p[i][1] * scale, p[i][2] * scale);
+    ASSERT_EQ(orient3d(q[0], q[1], q[2], q[3]), sign128(det)) << "iteration " << iter;
+    ASSERT_EQ(orient3d_exact(q[0], q[1], q[2], q[3]), sign128(det)) << "iteration " << iter;
+    const Vec3 offset = Vec3::Constant(std::ldexp(1.0, 45));
+    Vec3 far[4];
+    for (int i = 0; i < 4; ++i) far[i] = offset + Vec3(double(p[i][0]), double(p[i][1]), double(p[i][2]));
+    ASSERT_EQ(orient3d_exact(far[0], far[1], far[2], far[3]), sign128(det)) << "iteration " << iter;
+    ASSERT_EQ(orient3d(far[0], far[1], far[2], far[3]), sign128(det)) << "iteration " << iter;
+    ++signs[sign128(det) + 1];
+  }
+  EXPECT_GT(signs[0], 1000);
+  EXPECT_GT(signs[1], 1000);
+  EXPECT_GT(signs[2], 1000);
+}
+
+TEST(Predicates, Orient2dExactOnNearlyCollinearPoints) {
+  std::mt19937_64 rng(19);
+  std::uniform_int_distribution<std::int64_t> coord(-(1 << 26), 1 << 26);
+  std::uniform_real_distribution<double> weight(-2.0, 2.0);
+  std::uniform_int_distribution<int> nudge(-1, 1);
+  int signs[3] = {0, 0, 0};
+  for (int iter = 0; iter < 100000; ++iter) {
+    std::int64_t a[2], b[2], c[2];
+    for (int k = 0; k < 2; ++k) a[k] = coord(rng), b[k] = coord(rng);
+    const bool exact_line = iter % 3 == 0;
+    const double s = exact_line ? std::round(weight(rng)) : weight(rng);
+    for (int k = 0; k < 2; ++k) c[k] = std::llround(a[k] + s * (b[k] - a[k])) + (exact_line ? 0 : nudge(rng));
+    const I128 det = I128(b[0] - a[0]) * (c[1] - a[1]) - I128(b[1] - a[1]) * (c[0] - a[0]);
+    const double f = std::ldexp(1.0, -40);
+    ASSERT_EQ(orient2d(a[0] * f, a[1] * f, b[0] * f, b[1] * f, c[0] * f, c[1] * f), sign128(det));
+    ASSERT_EQ(orient2d_exact(a[0] * f, a[1] * f, b[0] * f, b[1] * f, c[0] * f, c[1] * f), sign128(det));
+    const double o = std::ldexp(1.0, 45);
+    ASSERT_EQ(orient2d_exact(o + a[0], o + a[1], o + b[0], o + b[1], o + c[0], o + c[1]), sign128(det));
+    ++signs[sign128(det) + 1];
+  }
+  EXPECT_GT(signs[0], 1000);
+  EXPECT_GT(signs[1], 1000);
+  EXPECT_GT(signs[2], 1000);
+}
+
+// Classic case where the rounded determinant has the wrong sign: points on a line through
+// non-representable values, one perturbed by one ulp.
+TEST(Predicates, Orient2dBeatsRounding) {
+  const double x = 0.5 + std::ldexp(1.0, -52);
+  // (12, 12), (24, 24) and (x, x + ulp): exactly one ulp above the diagonal.
+  EXPECT_EQ(orient2d(12, 12, 24, 24, x, std::nextafter(x, 1.0)), 1);
+  EXPECT_EQ(orient2d(12, 12, 24, 24, x, x), 0);
+  EXPECT_EQ(orient2d(12, 12, 24, 24, x, std::nextafter(x, 0.0)), -1);
+}
+
+}  // namespace
+}  // namespace tightbvh::detail

@@ -22,7 +22,7 @@ enum class FitMethod {
 
 struct FitOptions {
   FitMethod method = FitMethod::approx;
-  int grid = 3;                    // k: primitive grid directions with L-inf norm <= k
+  int grid = 2;                    // k: primitive grid directions with L-inf norm <= k (see README)
   std::optional<double> epsilon;   // when set, chooses k from epsilon (see grid_for_epsilon)
   bool improve = true;             // local improvement step (the "(Improved)" rows)
 };

@@ -89,7 +89,7 @@ AxisBox exact_box(const HullGeometry& g, ExactScratch& s, BoptScratch& bs) {
   // A good first upper bound lets the bounds below skip most families: the grid search of
   // Section 6.4 with k = 2 and the local improvement (any valid box is a valid bound).
   {
-    const AxisBox seed = grid_search(g, diameter_box(g, bs), 2, true, bs);
+    const AxisBox seed = grid_search(g, lemma_box(g), 2, true, bs);
     if (seed.volume() < best_volume) best_volume = seed.volume(), best = seed;
   }
 
@@ -126,12 +126,92 @@ AxisBox exact_box(const HullGeometry& g, ExactScratch& s, BoptScratch& bs) {
   const std::size_t na = s.arcs.size();
   constexpr double kStep = 0.01;  // sampling step along a family (radians, ~0.6 degrees)
   constexpr int kGolden = 60;
-  double samples_t[256];
-  double samples_v[256];
-  double samples_w[256][3];
-  double samples_m[256];
   double radius = 0.0;
   for (const Vec3& p : g.local) radius = std::max(radius, p.norm());
+  // Branch and bound over one family t in [t0, t1]: evaluate the middle of an interval,
+  // bound the volume on the whole interval from below, drop it when the bound reaches the
+  // best volume so far, else split; intervals shorter than kStep are refined by golden-section
+  // search. The bound: a support function is R-Lipschitz in the direction (R = max |p|),
+  // n1 moves at unit speed, n2 = m/|m| with m = n1 x d2 at speed <= 1/|m| (|m| itself moves at
+  // speed <= 1), n3 = n1 x n2 at <= 1 + 1/|m|; so each width changes by at most 2 R speed |dt|.
+  const auto record = [&](std::size_t i, std::size_t j, double t, double v) {
+    if (!(v < best_volume)) return;
+    Vec3 n1, n2;
+    if (!ev.frame(i, j, t, n1, n2)) return;
+    best_volume = v;
+    best_n1 = n1;
+    best_n2 = n2;
+    have_family_best = true;
+  };
+  // Lower bound of the volume on [t - half, t + half] from the widths w at t (see above).
+  const auto lower_bound = [&](const double* w, double m_len, double half) {
+    const double m_min = m_len - half;
+    if (!(m_min > 0.0)) return 0.0;
+    const double speed[3] = {1.0, 1.0 / m_min, 1.0 + 1.0 / m_min};
+    double bound = 1.0;
+    for (int a = 0; a < 3; ++a) bound *= std::max(0.0, w[a] - 2.0 * radius * speed[a] * half);
+    return bound;
+  };
+  // Golden-section search on [lo, hi], stopped early as soon as the bound over the remaining
+  // bracket (from its best interior point) reaches the best volume so far.
+  const auto golden = [&](std::size_t i, std::size_t j, double lo, double hi) {
+    ++s.stats.refined;
+    constexpr double r = 0.6180339887498949;
+    double w1[3], w2[3], m1 = 0.0, m2 = 0.0;
+    double x1 = hi - r * (hi - lo), x2 = lo + r * (hi - lo);
+    double f1 = ev.at(i, j, x1, w1, &m1), f2 = ev.at(i, j, x2, w2, &m2);
+    for (int it = 0; it < kGolden && hi - lo > 1e-13; ++it) {
+      if (f1 <= f2) {
+        hi = x2, x2 = x1, f2 = f1, m2 = m1;
+        std::copy(w1, w1 + 3, w2);
+        x1 = hi - r * (hi - lo);
+        f1 = ev.at(i, j, x1, w1, &m1);
+      } else {
+        lo = x1, x1 = x2, f1 = f2, m1 = m2;
+        std::copy(w2, w2 + 3, w1);
+        x2 = lo + r * (hi - lo);
+        f2 = ev.at(i, j, x2, w2, &m2);
+      }
+      record(i, j, x1, f1);
+      record(i, j, x2, f2);
+      const bool first = f1 <= f2;
+      const double x = first ? x1 : x2;
+      const double reach = std::max(x - lo, hi - x);
+      if (lower_bound(first ? w1 : w2, first ? m1 : m2, reach) >= best_volume) break;
+    }
+    record(i, j, x1, f1);
+    record(i, j, x2, f2);
+  };
+  std::vector<std::pair<double, double>>& stack = s.intervals;
+  const auto search_family = [&](std::size_t i, std::size_t j, double t0, double t1) {
+    ++s.stats.edge_pairs;
+    stack.clear();
+    record(i, j, t0, ev.at(i, j, t0));
+    record(i, j, t1, ev.at(i, j, t1));
+    stack.emplace_back(t0, t1);
+    while (!stack.empty()) {
+      const auto [lo, hi] = stack.back();
+      stack.pop_back();
+      const double mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+      double w[3], m_len = 0.0;
+      const double v = ev.at(i, j, mid, w, &m_len);
+      record(i, j, mid, v);
+      if (!(v < kInf) || !(m_len - half > 0.0)) {
+        // Close to the singular direction n1 = +-d2 nothing can be bounded; split down to
+        // 1e-4 rad, the rest is parameterised well by the ordered pair (j, i).
+        if (half > 1e-4) stack.emplace_back(lo, mid), stack.emplace_back(mid, hi);
+        continue;
+      }
+      if (lower_bound(w, m_len, half) >= best_volume) continue;
+      if (2.0 * half <= kStep) {
+        golden(i, j, lo, hi);
+        continue;
+      }
+      stack.emplace_back(lo, mid);
+      stack.emplace_back(mid, hi);
+    }
+  };
+
   for (std::size_t i = 0; i < na; ++i) {
     const auto& a1 = s.arcs[i];
     const Vec3 end1 = std::cos(a1.alpha) * a1.a + std::sin(a1.alpha) * a1.b;
@@ -161,70 +241,7 @@ AxisBox exact_box(const HullGeometry& g, ExactScratch& s, BoptScratch& bs) {
         const double tm = 0.5 * (t0 + t1);
         const Vec3 nm = std::cos(tm) * a1.a + std::sin(tm) * a1.b;
         if (P.dot(nm) * Q.dot(nm) > 0.0) continue;
-        ++s.stats.edge_pairs;
-        // Sample the family; then refine, by golden-section search, every bracket between
-        // neighbouring samples whose lower bound is below the best volume so far. The bound:
-        // a support function is R-Lipschitz in the direction (R = max |p|), n1 moves at unit
-        // speed, n2 = m/|m| with m = n1 x d2 at speed <= 1/|m|, n3 = n1 x n2 at <= 1 + 1/|m|;
-        // so each width changes by at most 2 R speed |dt| away from a sample.
-        const int n = std::min(255, 2 + static_cast<int>((t1 - t0) / kStep));
-        for (int k = 0; k < n; ++k) {
-          samples_t[k] = t0 + (t1 - t0) * k / (n - 1);
-          samples_v[k] = ev.at(i, j, samples_t[k], samples_w[k], &samples_m[k]);
-          if (samples_v[k] < best_volume) {
-            Vec3 n1, n2;
-            if (ev.frame(i, j, samples_t[k], n1, n2)) {
-              best_volume = samples_v[k];
-              best_n1 = n1;
-              best_n2 = n2;
-              have_family_best = true;
-            }
-          }
-        }
-        for (int k = 0; k + 1 < n; ++k) {
-          if (!(samples_v[k] < kInf) || !(samples_v[k + 1] < kInf)) continue;
-          const double half = 0.5 * (samples_t[k + 1] - samples_t[k]);
-          const double m_min = std::min(samples_m[k], samples_m[k + 1]) - half;
-          if (!(m_min > 0.0)) continue;  // near the singular direction: the pair (j, i) covers it
-          const double speed[3] = {1.0, 1.0 / m_min, 1.0 + 1.0 / m_min};
-          double bound = kInf;
-          for (int side = 0; side < 2; ++side) {
-            double b = 1.0;
-            for (int a = 0; a < 3; ++a) b *= std::max(0.0, samples_w[k + side][a] - 2.0 * radius * speed[a] * half);
-            bound = std::min(bound, b);
-          }
-          if (bound >= best_volume) continue;
-          ++s.stats.refined;
-          double lo = samples_t[k], hi = samples_t[k + 1];
-          double t_best = samples_t[k], v_best = samples_v[k];
-          if (hi > lo) {
-            constexpr double r = 0.6180339887498949;
-            double x1 = hi - r * (hi - lo), x2 = lo + r * (hi - lo);
-            double f1 = ev.at(i, j, x1), f2 = ev.at(i, j, x2);
-            for (int it = 0; it < kGolden && hi - lo > 1e-13; ++it) {
-              if (f1 <= f2) {
-                hi = x2, x2 = x1, f2 = f1;
-                x1 = hi - r * (hi - lo);
-                f1 = ev.at(i, j, x1);
-              } else {
-                lo = x1, x1 = x2, f1 = f2;
-                x2 = lo + r * (hi - lo);
-                f2 = ev.at(i, j, x2);
-              }
-            }
-            if (f1 < v_best) v_best = f1, t_best = x1;
-            if (f2 < v_best) v_best = f2, t_best = x2;
-          }
-          if (v_best < best_volume) {
-            Vec3 n1, n2;
-            if (ev.frame(i, j, t_best, n1, n2)) {
-              best_volume = v_best;
-              best_n1 = n1;
-              best_n2 = n2;
-              have_family_best = true;
-            }
-          }
-        }
+        search_family(i, j, t0, t1);
       }
     }
   }

@@ -57,7 +57,7 @@ Mat3 degenerate_axes(const ConvexHull3& hull, std::vector<Vec2>& polygon) {
 // cell of G = Grid(B_eps / 2), B_eps = (eps / 200) B*(S), then the exact box of the snapped hull.
 Mat3 snap_axes(FitWorkspace::Scratch& s, double epsilon) {
   using namespace fit_detail;
-  const AxisBox bstar = diameter_box(s.geometry, s.bopt);
+  const AxisBox bstar = lemma_box(s.geometry);
   const Vec3 cell = (bstar.hi - bstar.lo) * (epsilon / 400.0);
   s.cells.clear();
   for (const Vec3& p : s.geometry.local) {
@@ -110,7 +110,7 @@ Obb fit_checked(std::span<const Vec3> points, std::span<const Vec3> triangle_cor
       break;
     case FitMethod::approx: {
       const int k = options.epsilon ? grid_for_epsilon(*options.epsilon) : options.grid;
-      axes = grid_search(s.geometry, diameter_box(s.geometry, s.bopt), k, options.improve, s.bopt).axes;
+      axes = grid_search(s.geometry, lemma_box(s.geometry), k, options.improve, s.bopt).axes;
       break;
     }
     case FitMethod::approx_snap:
@@ -145,9 +145,15 @@ std::string_view to_string(FitMethod method) {
   return "unknown";
 }
 
+// e -> k. The proof of Theorem 6.4.3 needs k = c/e with a constant c that is far too
+// pessimistic in practice (m = max(4/e, 6) and grid cells of 1/(10m + 20) of the optimum).
+// We use k = ceil(0.15 / e), from a measurement: on 144 point sets (40 random sets of four
+// kinds and the 104 corpus meshes with hulls of at most 400 vertices) the worst relative
+// excess of approx (with the local improvement) over exact was 2.5% at k = 2, 1.4% at k = 3,
+// 0.9% at k = 6 and 0.63% at k = 8, i.e. about 0.05/k; 0.15/k leaves a factor 3.
 int grid_for_epsilon(double epsilon) {
   if (!(epsilon > 0.0) || !std::isfinite(epsilon)) throw InputError("fit: epsilon must be a positive number");
-  return 3;  // placeholder until approx lands
+  return static_cast<int>(std::clamp(std::ceil(0.15 / epsilon), 1.0, 64.0));
 }
 
 Obb fit_points(std::span<const Vec3> points, const FitOptions& options) {

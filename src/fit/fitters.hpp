@@ -20,7 +20,7 @@ namespace tightbvh::fit_detail {
 [[nodiscard]] const std::vector<std::array<int, 3>>& primitive_grid(int k);
 
 // GridSearchMinVolBbx (Section 6.4, Fig. 6.3): Bopt(S, {v}) for every primitive direction v
-// of Grid(B*(S)) with L-inf norm <= k, keep the smallest; then (if `improve`) the local
+// of Grid(B*(S)) (B*(S) = lemma_box, the box of Lemma 6.3.3 that Section 6.4 prescribes) with L-inf norm <= k, keep the smallest; then (if `improve`) the local
 // improvement of Section 6.5.
 [[nodiscard]] AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool improve,
                                   BoptScratch& scratch);
@@ -41,6 +41,7 @@ struct ExactScratch {
   };
   std::vector<Arc> arcs;
   std::vector<std::uint32_t> face_order;
+  std::vector<std::pair<double, double>> intervals;
   std::array<std::uint32_t, 6> hints{};
   ExactStats stats;
 };

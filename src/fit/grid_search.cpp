@@ -1,5 +1,6 @@
 // GridSearchMinVolBbx, Barequet & Har-Peled Section 6.4 (Fig. 6.3), with the local
 // improvement step of Section 6.5 (the "(Improved)" rows of Tables 6.1 and 6.2).
+#include <limits>
 #include <mutex>
 #include <numeric>
 
@@ -34,19 +35,39 @@ AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool imp
   const Vec3 extent = bstar.hi - bstar.lo;
   Mat3 basis;
   for (int j = 0; j < 3; ++j) basis.col(j) = extent[j] * bstar.axes.col(j);
-  AxisBox best = bstar;
-  double best_volume = bstar.volume();
+  // Keep the few best boxes: the local improvement is run from each of them (it converges to
+  // local minima, Section 6.5, so a second or third start often lands in a better one).
+  constexpr int kStarts = 4;
+  std::array<AxisBox, kStarts> top;
+  std::array<double, kStarts> top_volume;
+  top.fill(bstar);
+  top_volume.fill(std::numeric_limits<double>::infinity());
+  top_volume[0] = bstar.volume();
   for (const auto& c : primitive_grid(k)) {
     const Vec3 v = basis * Vec3(c[0], c[1], c[2]);
     if (!(v.squaredNorm() > 0.0)) continue;
     const AxisBox box = bopt(g, v, scratch);
-    const double volume = box.volume();
-    if (volume < best_volume) {
-      best_volume = volume;
-      best = box;
+    double volume = box.volume();
+    if (!(volume < top_volume[kStarts - 1])) continue;
+    // Insert into the sorted list of the best boxes.
+    int at = kStarts - 1;
+    while (at > 0 && volume < top_volume[at - 1]) {
+      top_volume[at] = top_volume[at - 1];
+      top[at] = top[at - 1];
+      --at;
     }
+    top_volume[at] = volume;
+    top[at] = box;
   }
-  return improve_step ? improve(g, best, scratch) : best;
+  if (!improve_step) return top[0];
+  AxisBox best = top[0];
+  double best_volume = top_volume[0];
+  for (int i = 0; i < kStarts; ++i) {
+    if (!(top_volume[i] < std::numeric_limits<double>::infinity())) break;
+    const AxisBox improved = improve(g, top[i], scratch);
+    if (improved.volume() < best_volume) best_volume = improved.volume(), best = improved;
+  }
+  return best;
 }
 
 }  // namespace tightbvh::fit_detail

@@ -36,6 +36,9 @@ struct HullWorkspace::State {
   std::vector<std::uint32_t> degree;
   std::vector<Vec2> plane_points;
   std::vector<std::uint32_t> plane_ids;
+  std::vector<std::uint32_t> ids;          // qhull point index -> input index
+  std::vector<Vec3> inner_planes;           // prefilter: normals of the inner polytope
+  std::vector<double> inner_offsets;
 
   State() {
     errfile = std::fopen("/dev/null", "w");
@@ -57,11 +60,12 @@ namespace {
 
 // Runs qhull on the centered coordinates and converts its triangulated facets. Returns false
 // when qhull reports an error (then `out` is untouched apart from clear()).
+// s.coords holds s.ids.size() points (centered); s.ids maps them to input indices.
 bool run_qhull(std::span<const Vec3> points, HullWorkspace::State& s, const char* options, ConvexHull3& out) {
   qhT* qh = &s.qh;
   qh_zero(qh, s.errfile);
   std::string command = std::string("qhull ") + options;
-  const int exitcode = qh_new_qhull(qh, 3, static_cast<int>(points.size()), s.coords.data(), False,
+  const int exitcode = qh_new_qhull(qh, 3, static_cast<int>(s.ids.size()), s.coords.data(), False,
                                     command.data(), nullptr, s.errfile);
   bool ok = exitcode == 0;
   if (ok) {
@@ -72,11 +76,12 @@ bool run_qhull(std::span<const Vec3> points, HullWorkspace::State& s, const char
     out.vertices.clear();
     out.input_index.clear();
     FORALLvertices {
-      const int id = qh_pointid(qh, vertex->point);
-      if (id < 0 || static_cast<std::size_t>(id) >= points.size()) continue;
+      const int local_id = qh_pointid(qh, vertex->point);
+      if (local_id < 0 || static_cast<std::size_t>(local_id) >= s.ids.size()) continue;
+      const std::uint32_t id = s.ids[static_cast<std::size_t>(local_id)];
       s.vertex_map[vertex->id] = static_cast<std::int64_t>(out.vertices.size());
-      out.vertices.push_back(points[static_cast<std::size_t>(id)]);
-      out.input_index.push_back(static_cast<std::uint32_t>(id));
+      out.vertices.push_back(points[id]);
+      out.input_index.push_back(id);
     }
     FORALLfacets {
       if (!facet->simplicial || qh_setsize(qh, facet->vertices) != 3) {
@@ -189,6 +194,78 @@ void planar_hull(std::span<const Vec3> points, const Vec3& origin, const Vec3& n
   out.dimension = out.vertices.size() >= 3 ? 2 : static_cast<int>(out.vertices.size()) - 1;
 }
 
+// Akl-Toussaint prefilter: the extreme points along the 13 directions of the cube's faces,
+// edges and corners (both signs) span an inner polytope; points strictly inside it cannot be
+// hull vertices. Fills s.coords / s.ids with the survivors (all points for small sets).
+void prefilter(std::span<const Vec3> points, const Vec3& origin, HullWorkspace::State& s) {
+  const auto keep_all = [&] {
+    s.ids.resize(points.size());
+    s.coords.resize(points.size() * 3);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Vec3 d = points[i] - origin;
+      s.ids[i] = static_cast<std::uint32_t>(i);
+      s.coords[3 * i] = d.x(), s.coords[3 * i + 1] = d.y(), s.coords[3 * i + 2] = d.z();
+    }
+  };
+  if (points.size() < 256) return keep_all();
+  static const Vec3 kDirs[13] = {{1, 0, 0}, {0, 1, 0},  {0, 0, 1},  {1, 1, 0},  {1, -1, 0}, {1, 0, 1},  {1, 0, -1},
+                                 {0, 1, 1}, {0, 1, -1}, {1, 1, 1},  {1, 1, -1}, {1, -1, 1}, {-1, 1, 1}};
+  std::array<std::uint32_t, 26> extreme{};
+  std::array<double, 26> value;
+  value.fill(-std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3 d = points[i] - origin;
+    for (int k = 0; k < 13; ++k) {
+      const double v = kDirs[k].dot(d);
+      if (v > value[2 * k]) value[2 * k] = v, extreme[2 * k] = static_cast<std::uint32_t>(i);
+      if (-v > value[2 * k + 1]) value[2 * k + 1] = -v, extreme[2 * k + 1] = static_cast<std::uint32_t>(i);
+    }
+  }
+  std::sort(extreme.begin(), extreme.end());
+  const auto end = std::unique(extreme.begin(), extreme.end());
+  s.ids.assign(extreme.begin(), end);
+  s.coords.resize(s.ids.size() * 3);
+  for (std::size_t i = 0; i < s.ids.size(); ++i) {
+    const Vec3 d = points[s.ids[i]] - origin;
+    s.coords[3 * i] = d.x(), s.coords[3 * i + 1] = d.y(), s.coords[3 * i + 2] = d.z();
+  }
+  // The inner polytope's facet planes (qhull on at most 26 points).
+  qhT* qh = &s.qh;
+  qh_zero(qh, s.errfile);
+  char command[] = "qhull";
+  const int exitcode = qh_new_qhull(qh, 3, static_cast<int>(s.ids.size()), s.coords.data(), False, command,
+                                    nullptr, s.errfile);
+  s.inner_planes.clear();
+  s.inner_offsets.clear();
+  double scale = 0.0;
+  if (exitcode == 0) {
+    facetT* facet;
+    FORALLfacets {
+      s.inner_planes.emplace_back(facet->normal[0], facet->normal[1], facet->normal[2]);
+      s.inner_offsets.push_back(facet->offset);
+    }
+    for (std::size_t i = 0; i < s.ids.size(); ++i) scale = std::max(scale, (points[s.ids[i]] - origin).norm());
+  }
+  qh_freeqhull(qh, !qh_ALL);
+  int curlong = 0, totlong = 0;
+  qh_memfreeshort(qh, &curlong, &totlong);
+  if (exitcode != 0 || s.inner_planes.size() < 4) return keep_all();
+  // Keep every point that is not strictly inside (with a relative margin, so rounding never
+  // drops a hull vertex).
+  const double margin = 1e-9 * scale;
+  s.ids.clear();
+  s.coords.clear();
+  const std::size_t nplanes = s.inner_planes.size();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3 d = points[i] - origin;
+    bool inside = true;
+    for (std::size_t f = 0; f < nplanes && inside; ++f) inside = s.inner_planes[f].dot(d) + s.inner_offsets[f] < -margin;
+    if (inside) continue;
+    s.ids.push_back(static_cast<std::uint32_t>(i));
+    s.coords.push_back(d.x()), s.coords.push_back(d.y()), s.coords.push_back(d.z());
+  }
+}
+
 }  // namespace
 
 ConvexHull3 convex_hull(std::span<const Vec3> points) {
@@ -256,13 +333,7 @@ void convex_hull(std::span<const Vec3> points, ConvexHull3& out, HullWorkspace& 
     return;
   }
 
-  s.coords.resize(points.size() * 3);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Vec3 d = points[i] - origin;
-    s.coords[3 * i] = d.x();
-    s.coords[3 * i + 1] = d.y();
-    s.coords[3 * i + 2] = d.z();
-  }
+  prefilter(points, origin, s);
   // 'Qt': triangulated output (merged coplanar facets are split into triangles that share the
   // merged facet's normal). If qhull reports a precision error, 'QJ' joggles the input instead.
   if (run_qhull(points, s, "Qt", out) || run_qhull(points, s, "QJ", out)) {

@@ -12,10 +12,14 @@
 // the same pairs.
 //
 // Traversal: Gottschalk et al. (1996) descent over node pairs with the 15-axis SAT
-// (obb_overlap.hpp), splitting the larger box (by volume) first, an explicit stack, B's box
-// mapped into A's box frame per node pair. Boxes are tested with a small margin (kBoxMargin
-// times the meshes' scale) so that rounding and the fitters' containment tolerance never cull a
-// touching pair.
+// (obb_overlap.hpp), splitting the larger box (by volume) first, an explicit stack (inline
+// buffer, heap only for very deep trees), B's boxes mapped into A's frame lazily once per query
+// and node (per-thread workspace), B's triangles mapped at the leaves. Boxes are tested with a
+// small margin (kBoxMargin times the meshes' scale) so that rounding and the fitters'
+// containment tolerance never cull a touching pair. No virtual calls.
+//
+// Thread safety: the query functions only read their inputs; any number of queries may run
+// concurrently (the box workspace is thread_local).
 #include <cstdint>
 #include <span>
 #include <vector>

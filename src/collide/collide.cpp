@@ -60,6 +60,29 @@ class PairStack {
   std::size_t size_ = 0;
 };
 
+// B's boxes mapped into A's frame, computed lazily once per query and node: a per-thread
+// workspace whose entries are valid when their stamp equals the query's epoch (no clearing).
+struct MappedBox {
+  Mat3 axes;
+  Vec3 center;
+};
+struct BoxCache {
+  std::vector<MappedBox> boxes;
+  std::vector<std::uint32_t> stamp;
+  std::uint32_t epoch = 0;
+
+  void begin(std::size_t nodes) {
+    if (boxes.size() < nodes) {
+      boxes.resize(nodes);
+      stamp.resize(nodes, 0);
+    }
+    if (++epoch == 0) {  // wrapped: invalidate everything once
+      std::fill(stamp.begin(), stamp.end(), 0);
+      epoch = 1;
+    }
+  }
+};
+
 // Number of B triangles mapped into A's frame at once in a leaf-leaf test.
 constexpr std::uint32_t kLeafChunk = 32;
 
@@ -75,17 +98,24 @@ void traverse(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& mb, co
   };
   std::uint64_t box_tests = 0, triangle_tests = 0;
   std::array<std::array<Vec3, 3>, kLeafChunk> mapped;
+  thread_local BoxCache cache;
+  cache.begin(tb.nodes.size());
   PairStack stack;
   stack.push({0, 0});
   while (!stack.empty()) {
     const NodePair np = stack.pop();
     const Node& na = ta.nodes[np.a];
     const Node& nb = tb.nodes[np.b];
-    // B's box in A's box frame: rotation C = Aa^T R Bb, center Aa^T (R cb + t - ca).
+    // B's box in A's frame (cached), then in A's box frame: C = Aa^T (R Bb), Aa^T (R cb + t - ca).
     ++box_tests;
-    const Mat3 ra = na.box.axes.transpose() * R;
-    const Mat3 c = ra * nb.box.axes;
-    const Vec3 d = ra * nb.box.center + na.box.axes.transpose() * (t - na.box.center);
+    MappedBox& mb_box = cache.boxes[np.b];
+    if (cache.stamp[np.b] != cache.epoch) {
+      cache.stamp[np.b] = cache.epoch;
+      mb_box.axes.noalias() = R * nb.box.axes;
+      mb_box.center.noalias() = R * nb.box.center + t;
+    }
+    const Mat3 c = na.box.axes.transpose() * mb_box.axes;
+    const Vec3 d = na.box.axes.transpose() * (mb_box.center - na.box.center);
     if (!obb_overlap(c, d, na.box.half_extents, nb.box.half_extents, margin)) continue;
 
     if (na.is_leaf() && nb.is_leaf()) {

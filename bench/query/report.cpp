@@ -42,7 +42,7 @@ std::string qps_chart(const std::vector<const Row*>& rows, const std::string& ti
   for (const Row* r : rows)
     if (r->qps() > 0) lo = std::min(lo, r->qps()), hi = std::max(hi, r->qps());
   if (hi <= 0) return {};
-  const double l0 = std::floor(std::log10(lo)) - 0.0, l1 = std::ceil(std::log10(hi));
+  const double l0 = std::floor(std::log10(lo) - 0.3), l1 = std::ceil(std::log10(hi));
   const auto x = [&](double q) { return left + (width - left - 90) * (std::log10(q) - l0) / std::max(l1 - l0, 1.0); };
   std::ostringstream s;
   s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << width << "' height='" << height
@@ -102,6 +102,7 @@ std::string volume_chart(const std::vector<std::pair<std::string, std::vector<Le
       if (l.volume > 0) lo = std::min(lo, l.volume), hi = std::max(hi, l.volume);
   }
   if (hi <= 0) return {};
+  lo = std::max(lo, hi * 1e-6);  // the deepest levels hold flat single-triangle boxes (~0 volume)
   const double l0 = std::floor(std::log10(lo)), l1 = std::ceil(std::log10(hi));
   const auto x = [&](double level) { return left + (width - left - right) * level / std::max<double>(depth - 1, 1); };
   const auto y = [&](double v) { return top + (height - top - bottom) * (l1 - std::log10(v)) / std::max(l1 - l0, 1.0); };
@@ -120,7 +121,7 @@ std::string volume_chart(const std::vector<std::pair<std::string, std::vector<Le
     const auto& [name, levels] = series[k];
     s << "<polyline fill='none' stroke-width='2' stroke='" << kColors[k % 10] << "' points='";
     for (std::size_t d = 0; d < levels.size(); ++d)
-      if (levels[d].volume > 0) s << x(double(d)) << ',' << y(levels[d].volume) << ' ';
+      if (levels[d].volume >= lo) s << x(double(d)) << ',' << y(levels[d].volume) << ' ';
     s << "'/><text x='" << width - right + 10 << "' y='" << top + 16 * k + 10 << "' fill='" << kColors[k % 10]
       << "'>" << esc(name) << "</text>";
   }
@@ -259,9 +260,11 @@ void write_report(const std::filesystem::path& dir, const RunInfo& info, const s
 
   const Aabb bounds = bounds_of(input.a.vertices);
   View view;
-  view.ox = bounds.min.x();
-  view.oy = bounds.min.y();
-  view.sx = (view.size - 20) / std::max(bounds.extents().x(), bounds.extents().y());
+  // Padded by a quarter of the size: rotated boxes reach beyond the mesh's bounds.
+  const double span = 1.5 * std::max(bounds.extents().x(), bounds.extents().y());
+  view.ox = bounds.center().x() - 0.5 * span;
+  view.oy = bounds.center().y() - 0.5 * span;
+  view.sx = (view.size - 20) / span;
   std::ostringstream mesh;  // drawn once, referenced by every picture
   mesh << "<svg width='0' height='0' style='position:absolute'><defs><path id='mesh-a' fill='#bbb' "
           "fill-opacity='0.35' stroke='#999' stroke-width='0.2' d='";

@@ -193,8 +193,8 @@ double random_search(std::span<const Vec3> points, std::mt19937_64& rng) {
 
 TEST(Fit, ExactNeverBeatenByRandomRotationSearch) {
   std::mt19937_64 rng(31337);
-  for (int trial = 0; trial < 12; ++trial) {
-    const std::size_t n = 8 + static_cast<std::size_t>(trial * 2);
+  for (int trial = 0; trial < 24; ++trial) {
+    const std::size_t n = 8 + static_cast<std::size_t>(trial);
     auto points = trial % 3 == 0 ? sphere_points(n, 500 + trial)
                                  : (trial % 3 == 1 ? uniform_cube(n, 600 + trial) : test::gaussian_points(n, 700 + trial));
     const double exact = volume_of(points, FitMethod::exact);
@@ -247,6 +247,34 @@ TEST(Fit, DegenerateInputsGiveZeroVolumeBoxes) {
     return 4 * h[1] * h[2];
   };
   EXPECT_NEAR(area(exact), area(approx), 1e-9 * area(exact));
+}
+
+TEST(Fit, NearlyDegenerateAndLatticeInputs) {
+  // A lattice (many coplanar and collinear points, exact ties everywhere), a slab 1e-9 thick,
+  // and a needle: every hull method must stay valid and ordered.
+  std::vector<std::vector<Vec3>> sets;
+  std::vector<Vec3> lattice;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 3; ++k) lattice.emplace_back(i, 0.5 * j, 0.25 * k);
+  sets.push_back(lattice);
+  std::mt19937_64 rng(77);
+  const Mat3 r = test::random_rotation(rng);
+  auto slab = uniform_cube(200, 5);
+  for (auto& p : slab) p = r * Vec3(p.x(), p.y(), 1e-9 * p.z());
+  sets.push_back(slab);
+  auto needle = uniform_cube(100, 6);
+  for (auto& p : needle) p = r * Vec3(p.x(), 1e-4 * p.y(), 1e-4 * p.z());
+  sets.push_back(needle);
+  for (std::size_t i = 0; i < sets.size(); ++i) {
+    const double exact = volume_of(sets[i], FitMethod::exact);
+    for (FitMethod m : kAll) {
+      const Obb box = fit_points(sets[i], {.method = m});
+      EXPECT_TRUE(valid_box_containing(box, sets[i])) << to_string(m) << " set " << i;
+      EXPECT_LE(exact, box.volume() * (1 + 1e-6) + 1e-300) << to_string(m) << " set " << i;
+    }
+  }
+  EXPECT_NEAR(volume_of(lattice, FitMethod::exact), 4.0 * 1.5 * 0.5, 1e-12);
 }
 
 TEST(Fit, RejectsNonFinite) {

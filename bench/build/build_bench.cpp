@@ -237,10 +237,13 @@ int auto_sweep(const std::vector<std::filesystem::path>& meshes, unsigned thread
       std::printf("| %s | approx not available | | | | |\n", name_of(path).c_str());
       continue;
     }
-    for (const std::uint32_t t : {2u, 16u, 64u, 256u, 1024u, 4096u}) {
-      const OurResult r = our_build(mesh, options_for(AutoFit{.tight_min_triangles = t}, threads), repeats);
-      std::printf("| %s | %u | %.4f | %.2f | %.4f | %.4f |\n", name_of(path).c_str(), t, r.seconds, r.seconds / pca.seconds,
-                  r.stats.sum_volume / pca.stats.sum_volume, r.stats.sum_volume / approx.stats.sum_volume);
+    for (const bool or_aabb : {false, true})
+    for (const std::uint32_t t : {2u, 64u, 256u, 512u, 1024u, 4096u, 1u << 30}) {
+      const OurResult r =
+          our_build(mesh, options_for(AutoFit{.tight_min_triangles = t, .or_aabb = or_aabb}, threads), repeats);
+      std::printf("| %s | %u%s | %.4f | %.2f | %.4f | %.4f |\n", name_of(path).c_str(), t, or_aabb ? " +aabb" : "",
+                  r.seconds, r.seconds / pca.seconds, r.stats.sum_volume / pca.stats.sum_volume,
+                  r.stats.sum_volume / approx.stats.sum_volume);
       std::fflush(stdout);
     }
   }

@@ -22,9 +22,10 @@ namespace tightbvh {
 // rarely and their volume is small anyway. Nodes with at least `tight_min_triangles` triangles
 // get `tight`, the others `cheap`. The default threshold is measured (README, "Tree builder").
 struct AutoFit {
-  std::uint32_t tight_min_triangles = 64;
+  std::uint32_t tight_min_triangles = 512;
   FitMethod tight = FitMethod::approx;
   FitMethod cheap = FitMethod::pca;
+  bool or_aabb = true;  // keep the AABB instead when it is smaller (it costs one pass)
   friend bool operator==(const AutoFit&, const AutoFit&) = default;
 };
 

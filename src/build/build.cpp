@@ -134,7 +134,14 @@ class Builder {
     }
     FitOptions fit = options_.fit;
     fit.method = method;
-    return fit_triangles(corners, fit, scratch.fit);
+    Obb box = fit_triangles(corners, fit, scratch.fit);
+    if (const auto* a = std::get_if<AutoFit>(&options_.fitter); a && a->or_aabb && method != FitMethod::aabb) {
+      // The axis-aligned box costs one pass and is often the smaller one (axis-aligned CAD
+      // parts, nodes with a near-isotropic covariance where the PCA axes are arbitrary).
+      fit.method = FitMethod::aabb;
+      if (const Obb aabb = fit_triangles(corners, fit, scratch.fit); aabb.volume() < box.volume()) box = aabb;
+    }
+    return box;
   }
 
   const BuildOptions& options_;

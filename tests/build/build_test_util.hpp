@@ -53,11 +53,22 @@ inline Mesh first_triangles(Mesh mesh, std::size_t max_triangles) {
 // the subset, where their input is largest).
 inline std::size_t triangle_budget(const Fitter& fitter) {
   if (const auto* m = std::get_if<FitMethod>(&fitter)) {
-    if (*m == FitMethod::exact) return 300;
-    if (*m == FitMethod::approx_snap) return 2000;
+    switch (*m) {
+      case FitMethod::aabb:
+      case FitMethod::pca:
+      case FitMethod::pca_vertex:
+        return 1u << 30;
+      case FitMethod::exact:
+      case FitMethod::approx_snap:  // ~20 s for 318 triangles (dragknob), hence tiny subsets
+        return 24;
+      default:
+        return 400;  // diameter, approx: qhull + grid search at every node
+    }
   }
-  return 1u << 30;
+  return 1500;  // auto: approx above 512 triangles
 }
+
+inline bool is_cheap(const Fitter& fitter) { return triangle_budget(fitter) > 1500; }
 
 inline std::filesystem::path source_dir() { return TIGHTBVH_SOURCE_DIR; }
 inline std::filesystem::path binary_dir() { return TIGHTBVH_BINARY_DIR; }

@@ -170,8 +170,8 @@ inline void add_triple_product(Expansion<N>& out, double s, double a, double b, 
   }
   // General case: det[b - a, c - a, d - a] = [b, c, d] - [a, c, d] + [a, b, d] - [a, b, c], with
   // the triple product [x, y, z] = x . (y x z) expanded into six products of three coordinates.
-  Expansion<24 * 4 + 1> e;
-  const auto triple = [&e](double s, const Vec3& x, const Vec3& y, const Vec3& z) {
+  // Each triple product is summed on its own, then the four pairwise (shorter merges).
+  const auto triple = [](Expansion<25>& e, double s, const Vec3& x, const Vec3& y, const Vec3& z) {
     add_triple_product(e, s, x.x(), y.y(), z.z());
     add_triple_product(e, -s, x.x(), y.z(), z.y());
     add_triple_product(e, -s, x.y(), y.x(), z.z());
@@ -179,11 +179,56 @@ inline void add_triple_product(Expansion<N>& out, double s, double a, double b, 
     add_triple_product(e, s, x.z(), y.x(), z.y());
     add_triple_product(e, -s, x.z(), y.y(), z.x());
   };
-  triple(1, b, c, d);
-  triple(-1, a, c, d);
-  triple(1, a, b, d);
-  triple(-1, a, b, c);
-  return e.sign();
+  Expansion<25> t[4];
+  triple(t[0], 1, b, c, d);
+  triple(t[1], -1, a, c, d);
+  triple(t[2], 1, a, b, d);
+  triple(t[3], -1, a, b, c);
+  Expansion<97> total;
+  Expansion<49> half;
+  half.add(t[0].c, t[0].n);
+  half.add(t[1].c, t[1].n);
+  total.add(half.c, half.n);
+  half.n = 0;
+  half.add(t[2].c, t[2].n);
+  half.add(t[3].c, t[3].n);
+  total.add(half.c, half.n);
+  return total.sign();
+}
+
+// Adaptive evaluation after the filter failed (Shewchuk's stages B and C): the determinant of the
+// rounded differences exactly, then with the first-order terms of the differences' rounding
+// errors; the full exact evaluation only when neither is decisive.
+[[nodiscard]] inline int orient3d_adaptive(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  Vec3 u, v, w, ut, vt, wt;  // rounded differences and their exact rounding errors
+  for (int k = 0; k < 3; ++k) {
+    two_sum(b[k], -a[k], u[k], ut[k]);
+    two_sum(c[k], -a[k], v[k], vt[k]);
+    two_sum(d[k], -a[k], w[k], wt[k]);
+  }
+  Expansion<25> e;  // det[u, v, w] exactly
+  add_triple_product(e, 1, u.x(), v.y(), w.z());
+  add_triple_product(e, -1, u.x(), v.z(), w.y());
+  add_triple_product(e, -1, u.y(), v.x(), w.z());
+  add_triple_product(e, 1, u.y(), v.z(), w.x());
+  add_triple_product(e, 1, u.z(), v.x(), w.y());
+  add_triple_product(e, -1, u.z(), v.y(), w.x());
+  if (ut == Vec3::Zero() && vt == Vec3::Zero() && wt == Vec3::Zero()) return e.sign();  // exact differences
+  double estimate = 0.0;
+  for (int i = 0; i < e.n; ++i) estimate += e.c[i];
+  const Vec3 ua = u.cwiseAbs(), va = v.cwiseAbs(), wa = w.cwiseAbs();
+  const double permanent = wa.x() * (ua.y() * va.z() + ua.z() * va.y()) + wa.y() * (ua.z() * va.x() + ua.x() * va.z()) +
+                           wa.z() * (ua.x() * va.y() + ua.y() * va.x());
+  // Stage B: |exact - det[u, v, w]| <= (3u + O(u^2)) permanent (Shewchuk: (3 + 28u)u).
+  const double bound_b = 4.0 * kUnitRoundoff * permanent;
+  if (estimate > bound_b) return 1;
+  if (-estimate > bound_b) return -1;
+  // Stage C: add the first-order error terms (Shewchuk: (26 + 288u)u^2 permanent + (3 + 8u)u |det|).
+  const double det = estimate + (ut.dot(v.cross(w)) + vt.dot(w.cross(u)) + wt.dot(u.cross(v)));
+  const double bound_c = 32.0 * kUnitRoundoff * kUnitRoundoff * permanent + 4.0 * kUnitRoundoff * std::abs(det);
+  if (det > bound_c) return 1;
+  if (-det > bound_c) return -1;
+  return orient3d_exact(a, b, c, d);
 }
 
 // A plane through (a, b, c) prepared for many orient3d queries against it.
@@ -212,7 +257,7 @@ struct OrientPlane {
     // A zero bound means every product has an exactly zero difference as a factor (e.g. all
     // four points on a plane z = const): the exact determinant is zero.
     if (bound == 0.0 || repeated || d == *a || d == *b || d == *c) return 0;
-    return orient3d_exact(*a, *b, *c, d);
+    return orient3d_adaptive(*a, *b, *c, d);
   }
 };
 

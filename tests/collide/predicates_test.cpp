@@ -77,6 +77,45 @@ TEST(Predicates, Orient2dExactOnNearlyCollinearPoints) {
   EXPECT_GT(signs[2], 1000);
 }
 
+// Nearly coplanar points with coordinates of mixed magnitudes: the differences are not exact
+// doubles, so the general expansion path (24 products of three coordinates) decides. Reference:
+// the determinant in binary128 (113-bit significand: differences of these doubles are exact, and
+// the products' rounding is ~2^-110 of the permanent, far below the determinants here), compared
+// only where it is decisive.
+TEST(Predicates, Orient3dGeneralPathAgainstQuadPrecision) {
+  using Q = __float128;
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-8, 8);
+  int compared = 0, signs[3] = {0, 0, 0};
+  for (int iter = 0; iter < 20000; ++iter) {
+    const auto coord = [&] { return std::ldexp(u(rng), exponent(rng)); };
+    const Vec3 a(coord(), coord(), coord()), b(coord(), coord(), coord()), c(coord(), coord(), coord());
+    const double s = u(rng), t = u(rng);
+    const Vec3 d = a + s * (b - a) + t * (c - a);  // on the plane up to rounding
+    Q uq[3], vq[3], wq[3];
+    for (int k = 0; k < 3; ++k) uq[k] = Q(b[k]) - Q(a[k]), vq[k] = Q(c[k]) - Q(a[k]), wq[k] = Q(d[k]) - Q(a[k]);
+    const Q det = wq[0] * (uq[1] * vq[2] - uq[2] * vq[1]) + wq[1] * (uq[2] * vq[0] - uq[0] * vq[2]) +
+                  wq[2] * (uq[0] * vq[1] - uq[1] * vq[0]);
+    const auto qabs = [](Q x) { return x < 0 ? -x : x; };
+    const Q permanent = qabs(wq[0]) * (qabs(uq[1] * vq[2]) + qabs(uq[2] * vq[1])) +
+                        qabs(wq[1]) * (qabs(uq[2] * vq[0]) + qabs(uq[0] * vq[2])) +
+                        qabs(wq[2]) * (qabs(uq[0] * vq[1]) + qabs(uq[1] * vq[0]));
+    if (qabs(det) <= permanent * Q(std::ldexp(1.0, -100))) continue;
+    const int expected = det > 0 ? 1 : -1;
+    ASSERT_EQ(orient3d_exact(a, b, c, d), expected) << "iteration " << iter;
+    ASSERT_EQ(orient3d(a, b, c, d), expected) << "iteration " << iter;
+    // Corner permutations: an even one keeps the sign, an odd one flips it.
+    ASSERT_EQ(orient3d_exact(b, c, a, d), expected) << "iteration " << iter;
+    ASSERT_EQ(orient3d_exact(b, a, c, d), -expected) << "iteration " << iter;
+    ++compared;
+    ++signs[expected + 1];
+  }
+  EXPECT_GT(compared, 15000);
+  EXPECT_GT(signs[0], 3000);
+  EXPECT_GT(signs[2], 3000);
+}
+
 // Classic case where the rounded determinant has the wrong sign: points on a line through
 // non-representable values, one perturbed by one ulp.
 TEST(Predicates, Orient2dBeatsRounding) {

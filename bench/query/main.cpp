@@ -2,6 +2,7 @@
 // on the same poses, every answer checked against our exact reference.
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -20,6 +21,8 @@ namespace tb = tightbvh::bench;
 using tightbvh::Pose;
 
 namespace {
+
+constexpr double kMinSample = 0.02;  // seconds of CPU per timed sample (short ones are noise)
 
 std::vector<tb::EngineInfo> all_engines() {
   std::vector<tb::EngineInfo> all;
@@ -173,6 +176,7 @@ int main(int argc, char** argv) {
         tb::Answers answers;
         std::vector<double> times;
         double spent = 0;
+        int inner = 1;  // passes per sample, so that a sample lasts >= kMinSample
       };
       std::vector<Job> jobs;
       for (const auto& e : engines) {
@@ -190,7 +194,15 @@ int main(int argc, char** argv) {
         for (tb::Mode mode : modes) {
           if ((mode == tb::Mode::first_hit && !e.first_hit) || (mode == tb::Mode::all_pairs && !e.all_pairs)) continue;
           progress.show(sname + ": " + e.name + " " + tb::to_string(mode) + " (checked pass)", 0);
-          jobs.push_back({&e, built[e.name].get(), mode, built[e.name]->answer(mode, ps), {}, 0});
+          jobs.push_back({&e, built[e.name].get(), mode, built[e.name]->answer(mode, ps), {}, 0, 1});
+          // Calibration: a pass long enough already counts as the first sample.
+          Job& job = jobs.back();
+          const double once = job.engine->pass(mode, ps, 1);
+          job.inner = std::clamp(int(std::ceil(kMinSample / std::max(once, 1e-9))), 1, 1000);
+          if (job.inner == 1) {
+            job.times.push_back(once);
+            job.spent = once;
+          }
         }
       }
       // Timed passes round-robin over the engines, so that load from elsewhere on the machine
@@ -198,11 +210,11 @@ int main(int argc, char** argv) {
       for (int r = 0; r < repetitions; ++r) {
         for (std::size_t j = 0; j < jobs.size(); ++j) {
           Job& job = jobs[j];
-          if (r > 0 && job.spent > budget) continue;
+          if (int(job.times.size()) >= repetitions || (!job.times.empty() && job.spent > budget)) continue;
           progress.show(sname + ": timing", (double(r) * jobs.size() + j + 1) / (double(repetitions) * jobs.size()));
-          const double dt = job.engine->pass(job.mode, ps);
+          const double dt = job.engine->pass(job.mode, ps, job.inner);
           job.times.push_back(dt);
-          job.spent += dt;
+          job.spent += dt * job.inner;
         }
       }
       for (Job& job : jobs) {
@@ -230,6 +242,9 @@ int main(int argc, char** argv) {
       tb::write_poses(write_poses_file, written,
                       "tightbvh-bench poses: A=" + input.name_a + " B=" + input.name_b + " scenario=" + scenario_arg +
                           " seed=" + std::to_string(seed));
+    for (const std::string& f : {json_file, csv_file})
+      if (!f.empty() && std::filesystem::path(f).has_parent_path())
+        std::filesystem::create_directories(std::filesystem::path(f).parent_path());
     tb::fill_ratios(rows);
     tb::print_table(std::cout, info, rows);
     if (!json_file.empty()) tb::write_json(json_file, info, rows);

@@ -92,8 +92,8 @@ void print_table(std::ostream& out, const RunInfo& info, const std::vector<Row>&
   out << "tightbvh-bench: A = " << info.mesh_a << " (" << info.triangles_a << " triangles), B = " << info.mesh_b
       << " (" << info.triangles_b << " triangles), " << info.poses << " poses per scenario, seed " << info.seed
       << "\nreference: " << info.reference << "\nnear-touching: differing pairs within " << info.tolerance
-      << " (1e-9 x the larger AABB diagonal) of touching; queries/s: median of up to " << info.repetitions
-      << " timed passes after a warm-up pass\n";
+      << " (1e-9 x the larger AABB diagonal) of touching; queries/s: poses / median CPU time of a pass (thread CPU clock; up to " << info.repetitions
+      << " samples of >= 20 ms each, engines interleaved, after a checked warm-up pass)\n";
   std::string scenario;
   for (const Row& r : rows) {
     if (r.scenario != scenario) {

@@ -133,13 +133,13 @@ class PreparedAdapter final : public Prepared {
   std::vector<Pair> scratch_;
 };
 
-// Runs `make` (which builds both trees and returns std::unique_ptr<Adapter>), timing it.
+// Runs `make` (which builds both trees and returns std::unique_ptr<Adapter>), timing it (CPU).
 template <class Make>
 [[nodiscard]] std::unique_ptr<Prepared> prepare(Make&& make) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const double t0 = thread_seconds();  // every build here is single-threaded
   auto adapter = make();
   using A = typename decltype(adapter)::element_type;
-  const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double dt = thread_seconds() - t0;
   auto p = std::make_unique<PreparedAdapter<A>>(std::move(adapter));
   p->build_seconds = dt;
   return p;

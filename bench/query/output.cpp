@@ -93,7 +93,8 @@ void print_table(std::ostream& out, const RunInfo& info, const std::vector<Row>&
       << " (" << info.triangles_b << " triangles), " << info.poses << " poses per scenario, seed " << info.seed
       << "\nreference: " << info.reference << "\nnear-touching: differing pairs within " << info.tolerance
       << " (1e-9 x the larger AABB diagonal) of touching; queries/s: poses / median CPU time of a pass (thread CPU clock; up to " << info.repetitions
-      << " samples of >= 20 ms each, engines interleaved, after a checked warm-up pass)\n";
+      << " samples of >= 20 ms each, engines interleaved, after a checked warm-up pass); build s: CPU time "
+         "of building both trees\n";
   std::string scenario;
   for (const Row& r : rows) {
     if (r.scenario != scenario) {

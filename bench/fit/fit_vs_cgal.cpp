@@ -4,6 +4,8 @@
 // The only translation unit that includes CGAL.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Optimal_bounding_box/oriented_bounding_box.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/convex_hull_3.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -66,6 +68,48 @@ double cgal_volume(const std::vector<K::Point_3>& points) {
   return (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
 }
 
+// Seconds per call (thread CPU) of f, repeated until at least `budget` seconds were spent.
+template <typename F>
+double per_call(F&& f, double budget = 0.2) {
+  int calls = 0;
+  const double start = thread_seconds();
+  double spent = 0.0;
+  do {
+    f();
+    ++calls;
+    spent = thread_seconds() - start;
+  } while (spent < budget);
+  return spent / calls;
+}
+
+// qhull (our convex_hull: dimension check, prefilter, qhull 'Qt', graph) against CGAL's
+// quickhull (CGAL::convex_hull_3 into a Surface_mesh) on node-sized inputs: the n vertices of a
+// mesh nearest to one of its vertices.
+void compare_hulls(const std::filesystem::path& mesh_path) {
+  const auto all = tightbvh::load_mesh(mesh_path).vertices;
+  std::printf("hull timing on %s nodes (thread CPU per call)\n%8s %6s %12s %12s %8s\n", mesh_path.filename().c_str(),
+              "points", "hull", "qhull us", "CGAL us", "CGAL/qhull");
+  for (std::size_t n : {10, 30, 100, 300, 1000, 3000, 10000}) {
+    if (n > all.size()) break;
+    std::vector<tightbvh::Vec3> node(all);
+    const tightbvh::Vec3 seed = node[node.size() / 3];
+    std::nth_element(node.begin(), node.begin() + static_cast<std::ptrdiff_t>(n) - 1, node.end(),
+                     [&](const auto& a, const auto& b) { return (a - seed).squaredNorm() < (b - seed).squaredNorm(); });
+    node.resize(n);
+    std::vector<K::Point_3> cgal_points;
+    for (const auto& p : node) cgal_points.emplace_back(p.x(), p.y(), p.z());
+    tightbvh::ConvexHull3 hull;
+    tightbvh::HullWorkspace ws;
+    const double ours = per_call([&] { tightbvh::convex_hull(node, hull, ws); });
+    CGAL::Surface_mesh<K::Point_3> sm;
+    const double cgal = per_call([&] {
+      sm.clear();
+      CGAL::convex_hull_3(cgal_points.begin(), cgal_points.end(), sm);
+    });
+    std::printf("%8zu %6zu %12.1f %12.1f %8.2f\n", n, hull.vertices.size(), 1e6 * ours, 1e6 * cgal, cgal / ours);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -81,7 +125,13 @@ int main(int argc, char** argv) {
   app.add_option("--exact-max-hull", exact_max_hull, "run exact only when the hull has at most this many vertices")
       ->capture_default_str();
   app.add_option("--json", json_path, "also write the per-mesh results to this JSON file");
+  std::string hulls_mesh;
+  app.add_option("--hulls", hulls_mesh, "only time qhull vs CGAL::convex_hull_3 on nodes of this mesh");
   CLI11_PARSE(app, argc, argv);
+  if (!hulls_mesh.empty()) {
+    compare_hulls(hulls_mesh);
+    return 0;
+  }
 
   std::vector<std::filesystem::path> files;
   for (const auto& in : inputs) {

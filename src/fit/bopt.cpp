@@ -96,20 +96,19 @@ AxisBox bopt(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
   return box;
 }
 
-AxisBox improve(const HullGeometry& g, AxisBox box, BoptScratch& scratch, int max_rounds) {
+AxisBox improve(const HullGeometry& g, AxisBox box, BoptScratch& scratch, double min_gain, int max_rounds) {
   double volume = box.volume();
   for (int round = 0; round < max_rounds; ++round) {
-    bool improved = false;
+    const double start = volume;
     for (int axis = 0; axis < 3; ++axis) {
       const AxisBox candidate = bopt(g, box.axes.col(axis), scratch);
       const double cv = candidate.volume();
-      if (cv < volume * (1.0 - 1e-12)) {
+      if (cv < volume) {
         box = candidate;
         volume = cv;
-        improved = true;
       }
     }
-    if (!improved) break;
+    if (!(volume < start * (1.0 - min_gain))) break;
   }
   return box;
 }

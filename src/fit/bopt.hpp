@@ -47,8 +47,10 @@ struct BoptScratch {
 [[nodiscard]] AxisBox bopt(const HullGeometry& g, const Vec3& v, BoptScratch& scratch);
 
 // The local improvement step of Section 6.5: re-solve Bopt along each axis of the box while
-// the volume decreases (by more than a relative 1e-12). Returns the improved box.
-[[nodiscard]] AxisBox improve(const HullGeometry& g, AxisBox box, BoptScratch& scratch, int max_rounds = 64);
+// a round lowers the volume by more than the relative `min_gain` (at most `max_rounds` rounds;
+// near a local minimum the gains shrink geometrically, coordinate-descent style).
+[[nodiscard]] AxisBox improve(const HullGeometry& g, AxisBox box, BoptScratch& scratch, double min_gain = 1e-12,
+                              int max_rounds = 64);
 
 // The extents of the hull along given axes (exact, by scanning all hull vertices).
 [[nodiscard]] AxisBox box_of_hull(const HullGeometry& g, const Mat3& axes);

@@ -10,9 +10,9 @@ namespace {
 // An approximate diameter pair (Lemma 2.5.3 uses the extreme points of a fixed set of
 // directions): the extreme pairs along the 13 directions of the cube's faces, edges and
 // corners, then two rounds of "farthest point from the current end".
-template <typename Points, typename Project>
-std::array<std::size_t, 2> approx_diameter(const Points& pts, std::size_t n, const Project& dirs_count,
-                                           auto&& dir_at) {
+template <typename Points, typename DirectionAt>
+std::array<std::size_t, 2> approx_diameter(const Points& pts, std::size_t n, int dirs_count,
+                                           const DirectionAt& dir_at) {
   std::array<std::size_t, 2> best{0, 0};
   double best_len = -1.0;
   for (int d = 0; d < dirs_count; ++d) {

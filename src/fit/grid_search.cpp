@@ -64,7 +64,7 @@ AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool imp
   double best_volume = top_volume[0];
   for (int i = 0; i < kStarts; ++i) {
     if (!(top_volume[i] < std::numeric_limits<double>::infinity())) break;
-    const AxisBox improved = improve(g, top[i], scratch);
+    const AxisBox improved = improve(g, top[i], scratch, 1e-6, 16);
     if (improved.volume() < best_volume) best_volume = improved.volume(), best = improved;
   }
   return best;

@@ -152,16 +152,14 @@ void build_adjacency(ConvexHull3& out, HullWorkspace::State& s) {
 // Planar (or nearly planar) input: the 2D hull in the plane through the set.
 void planar_hull(std::span<const Vec3> points, const Vec3& origin, const Vec3& normal, HullWorkspace::State& s,
                  ConvexHull3& out) {
-  Vec3 u = normal.unitOrthogonal();
-  Vec3 w = normal.cross(u);
+  const Vec3 u = normal.unitOrthogonal();
+  const Vec3 w = normal.cross(u);
   s.plane_points.resize(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Vec3 d = points[i] - origin;
-    // The index rides along in the (exactly representable) z of a third array: keep ids by
-    // sorting pairs instead.
     s.plane_points[i] = Vec2(u.dot(d), w.dot(d));
   }
-  // Monotone chain keeping input ids: sort ids by coordinates.
+  // Monotone chain on the in-plane coordinates, carrying the input ids along.
   s.plane_ids.resize(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) s.plane_ids[i] = static_cast<std::uint32_t>(i);
   const auto& pp = s.plane_points;

@@ -3,7 +3,7 @@
 //   tightbvh-build-bench [MESH...] [--repeats R] [--json FILE]
 //       per mesh, in one run: FCL BVHModel<OBB> and BVHModel<OBBRSS> builds (PCA boxes, mean
 //       split), our pca / approx / auto builds (threads = 1 unless --threads), median times,
-//       ratios, sums of node volumes and bytes per triangle.
+//       ratios, sums of node volumes and bytes per triangle (--no-tight: pca vs FCL only).
 //   tightbvh-build-bench --splits [MESH...]      sum of volumes per split method
 //   tightbvh-build-bench --auto-sweep [MESH...]  time and volume of auto per threshold
 //   tightbvh-build-bench --scale MESH --triangles N --fitter F [--threads T]
@@ -147,7 +147,8 @@ std::vector<std::filesystem::path> default_meshes() {
 
 // ------------------------------------------------------------------ main comparison
 
-int compare(const std::vector<std::filesystem::path>& meshes, int repeats, unsigned threads, const std::string& json_out) {
+int compare(const std::vector<std::filesystem::path>& meshes, int repeats, unsigned threads, const std::string& json_out,
+            bool tight) {
   nlohmann::json all = nlohmann::json::array();
   std::printf("threads = %u for our builds (FCL is single-threaded); times are medians of %d runs\n", threads, repeats);
   const unsigned all_threads = std::max(1u, std::thread::hardware_concurrency());
@@ -164,8 +165,8 @@ int compare(const std::vector<std::filesystem::path>& meshes, int repeats, unsig
     const auto obbrss = fcl_build<fcl::OBBRSSd>(input, repeats);
     const OurResult pca = our_build(mesh, options_for(FitMethod::pca, threads), repeats);
     const OurResult pca_all = our_build(mesh, options_for(FitMethod::pca, all_threads), repeats);
-    const OurResult approx = our_build(mesh, options_for(FitMethod::approx, threads), repeats);
-    const OurResult automatic = our_build(mesh, options_for(AutoFit{}, threads), repeats);
+    const OurResult approx = tight ? our_build(mesh, options_for(FitMethod::approx, threads), repeats) : OurResult{};
+    const OurResult automatic = tight ? our_build(mesh, options_for(AutoFit{}, threads), repeats) : OurResult{};
     const auto ratio = [](const OurResult& a, double b, bool volume) -> std::string {
       if (!a.ok) return "n/a";
       return fmt((volume ? a.stats.sum_volume : a.seconds) / b, "%.3f");
@@ -310,7 +311,7 @@ int main(int argc, char** argv) {
     int repeats = 3;
     unsigned threads = 1;
     std::size_t triangles = 1000000;
-    bool check = false;
+    bool check = false, tight = true;
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
       const auto next = [&]() -> std::string {
@@ -326,6 +327,7 @@ int main(int argc, char** argv) {
       else if (a == "--fitter") fitter = next();
       else if (a == "--triangles") triangles = std::stoul(next());
       else if (a == "--validate") check = true;
+      else if (a == "--no-tight") tight = false;  // compare: skip the (slow) approx and auto builds
       else if (a.rfind("--", 0) == 0) throw std::runtime_error("unknown option " + a);
       else meshes.emplace_back(a);
     }
@@ -333,7 +335,7 @@ int main(int argc, char** argv) {
     if (mode == "splits") return splits(meshes, threads);
     if (mode == "auto") return auto_sweep(meshes, threads, repeats);
     if (mode == "scale") return scale(meshes.at(0), triangles, fitter, threads, check);
-    return compare(meshes, repeats, threads, json_out);
+    return compare(meshes, repeats, threads, json_out, tight);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "tightbvh-build-bench: error: %s\n", e.what());
     return 1;

@@ -1,0 +1,176 @@
+#pragma once
+// tightbvh-bench internals: the engine-agnostic harness. Each engine is a plain adapter type
+// with two member functions; the timed loops are templates over that type, so no virtual call
+// (nor std::function) sits on the timed path. Engines are type-erased only around whole runs.
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "tightbvh/mesh.hpp"
+#include "tightbvh/pose.hpp"
+
+namespace tightbvh::bench {
+
+// A touching triangle pair: (triangle of A, triangle of B), original mesh indices.
+using Pair = std::pair<std::uint32_t, std::uint32_t>;
+
+enum class Mode { first_hit, all_pairs };
+[[nodiscard]] inline const char* to_string(Mode m) { return m == Mode::first_hit ? "first_hit" : "all_pairs"; }
+
+struct Input {
+  std::string name_a, name_b;
+  Mesh a, b;
+  double scale = 1.0;  // the larger AABB diagonal of the two meshes: tolerances are relative to it
+};
+
+struct TimingOptions {
+  int repetitions = 5;         // timed passes over all poses; the median is reported
+  double budget_seconds = 1.0; // stop adding repetitions (after the first) once this is spent
+};
+
+// What one engine answered for every pose of a scenario, in one mode.
+struct Answers {
+  std::vector<std::uint8_t> hit;          // per pose
+  std::vector<std::vector<Pair>> pairs;   // per pose, sorted; empty in first_hit mode
+};
+
+// An adapter A provides:
+//   bool first_hit(const Pose& b_in_a);                       // any touching pair?
+//   void all_pairs(const Pose& b_in_a, std::vector<Pair>& out); // appends every pair found
+// Pose = the rigid transform applied to B's vertices in A's frame (A at identity).
+
+// The untimed pass whose answers are checked (it is also the warm-up).
+template <class A>
+[[nodiscard]] Answers answer_all(A& adapter, Mode mode, std::span<const Pose> poses) {
+  Answers out;
+  out.hit.resize(poses.size());
+  if (mode == Mode::all_pairs) out.pairs.resize(poses.size());
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    if (mode == Mode::first_hit) {
+      out.hit[i] = adapter.first_hit(poses[i]) ? 1 : 0;
+    } else {
+      auto& pairs = out.pairs[i];
+      adapter.all_pairs(poses[i], pairs);
+      std::sort(pairs.begin(), pairs.end());
+      pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+      out.hit[i] = pairs.empty() ? 0 : 1;
+    }
+  }
+  return out;
+}
+
+// CPU time of the calling thread: the machine is shared, and wall-clock time would charge other
+// processes' load to whichever engine happened to be running. Every engine here is single-threaded.
+[[nodiscard]] inline double thread_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+// One timed sample: `inner` passes over all poses; returns CPU seconds per pass.
+template <class A>
+[[nodiscard]] double timed_pass(A& adapter, Mode mode, std::span<const Pose> poses, int inner,
+                                std::vector<Pair>& scratch) {
+  std::size_t sink = 0;  // keeps the optimiser from dropping the queries
+  const double t0 = thread_seconds();
+  for (int k = 0; k < inner; ++k) {
+    if (mode == Mode::first_hit) {
+      for (const Pose& p : poses) sink += adapter.first_hit(p) ? 1 : 0;
+    } else {
+      for (const Pose& p : poses) {
+        scratch.clear();
+        adapter.all_pairs(p, scratch);
+        sink += scratch.size();
+      }
+    }
+  }
+  const double dt = (thread_seconds() - t0) / inner;
+  volatile std::size_t keep = sink;
+  (void)keep;
+  return dt;
+}
+
+[[nodiscard]] inline double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// A built engine, type-erased for the driver (one virtual call per whole measurement).
+class Prepared {
+ public:
+  virtual ~Prepared() = default;
+  [[nodiscard]] virtual Answers answer(Mode mode, std::span<const Pose> poses) = 0;
+  [[nodiscard]] virtual double pass(Mode mode, std::span<const Pose> poses, int inner) = 0;
+  // Engine-specific counts worth reporting (e.g. contacts without a triangle pair).
+  [[nodiscard]] virtual std::string stats() const { return {}; }
+  double build_seconds = 0;
+};
+
+template <class A>
+class PreparedAdapter final : public Prepared {
+ public:
+  explicit PreparedAdapter(std::unique_ptr<A> adapter) : adapter_(std::move(adapter)) {}
+  Answers answer(Mode mode, std::span<const Pose> poses) override { return answer_all(*adapter_, mode, poses); }
+  double pass(Mode mode, std::span<const Pose> poses, int inner) override {
+    return timed_pass(*adapter_, mode, poses, inner, scratch_);
+  }
+  std::string stats() const override {
+    if constexpr (requires(const A& a) { a.stats(); }) return adapter_->stats();
+    else return {};
+  }
+
+ private:
+  std::unique_ptr<A> adapter_;
+  std::vector<Pair> scratch_;
+};
+
+// Runs `make` (which builds both trees and returns std::unique_ptr<Adapter>), timing it (CPU).
+template <class Make>
+[[nodiscard]] std::unique_ptr<Prepared> prepare(Make&& make) {
+  const double t0 = thread_seconds();  // every build here is single-threaded
+  auto adapter = make();
+  using A = typename decltype(adapter)::element_type;
+  const double dt = thread_seconds() - t0;
+  auto p = std::make_unique<PreparedAdapter<A>>(std::move(adapter));
+  p->build_seconds = dt;
+  return p;
+}
+
+struct EngineInfo {
+  std::string name;
+  bool first_hit = true;   // supports first_hit natively (early exit)
+  bool all_pairs = true;   // reports triangle pairs
+  std::string note;        // what the engine cannot do, shown in the README/report
+  std::function<std::unique_ptr<Prepared>(const Input&)> build;
+};
+
+// Engine registries, one per translation unit.
+[[nodiscard]] std::vector<EngineInfo> tightbvh_engines();
+[[nodiscard]] std::vector<EngineInfo> fcl_engines();
+[[nodiscard]] std::vector<EngineInfo> bullet_engines();
+[[nodiscard]] std::vector<EngineInfo> ode_engines();
+
+// Our exact all-pairs query on a tree built once (the reference and the `near` pose search).
+class Reference {
+ public:
+  explicit Reference(const Input& input);
+  ~Reference();
+  [[nodiscard]] bool collides(const Pose& b_in_a) const;
+  [[nodiscard]] std::vector<Pair> pairs(const Pose& b_in_a) const;  // sorted
+  [[nodiscard]] std::string description() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tightbvh::bench

@@ -1,0 +1,30 @@
+#pragma once
+// Checking an engine's answers against the reference pairs, pose by pose.
+#include <vector>
+
+#include "bench.hpp"
+
+namespace tightbvh::bench {
+
+struct Agreement {
+  int yes_no = 0;              // poses whose yes/no differs from the reference (not near-touching)
+  int yes_no_near = 0;         // ... where the reference pairs all touch within the tolerance
+  int pair_sets = 0;           // poses whose pair set differs beyond near-touching pairs
+  long missing = 0, extra = 0; // pairs missing / extra, not near-touching
+  long near_missing = 0, near_extra = 0;  // differing pairs within tolerance of touching
+  double max_extra_distance = 0;           // farthest extra pair (e.g. contact margins)
+
+  [[nodiscard]] long mismatches() const { return yes_no + missing + extra; }
+  [[nodiscard]] long near_touching() const { return yes_no_near + near_missing + near_extra; }
+};
+
+// `tolerance` is absolute (1e-9 x mesh scale): a differing pair counts as near-touching when
+// moving B's triangle by `tolerance` can change whether the two triangles touch.
+[[nodiscard]] Agreement compare(const Input& in, Mode mode, const Answers& got,
+                                const std::vector<std::vector<Pair>>& reference,
+                                const std::vector<Pose>& poses, double tolerance);
+
+// Distance between triangle ta of A and triangle tb of B placed at `pose` (0 if they touch).
+[[nodiscard]] double triangle_distance(const Input& in, const Pose& pose, Pair pair);
+
+}  // namespace tightbvh::bench

@@ -1,0 +1,109 @@
+// Our engines (tightbvh-*), our trees inside FCL (fcl-export-*), and the reference.
+#include <chrono>
+
+#include "fcl_adapter.hpp"
+#include "tightbvh/build.hpp"
+#include "tightbvh/collide.hpp"
+#include "tightbvh/fcl_export.hpp"
+
+namespace tightbvh::bench {
+namespace {
+
+// Single-threaded builds: FCL, Bullet and ODE build on one thread, so build times compare.
+Tree build_tree(const Mesh& mesh, const Fitter& fitter) {
+  BuildOptions options;
+  options.fitter = fitter;
+  options.threads = 1;
+  return build(mesh, options);
+}
+
+class TightbvhAdapter {
+ public:
+  TightbvhAdapter(const Input& in, const Fitter& fitter)
+      : ma_(in.a), mb_(in.b), a_(build_tree(in.a, fitter)), b_(build_tree(in.b, fitter)) {}
+
+  [[nodiscard]] bool first_hit(const Pose& pose) const {
+    return collide(a_, ma_, Pose::identity(), b_, mb_, pose, {.mode = QueryMode::first_hit}).hit;
+  }
+  void all_pairs(const Pose& pose, std::vector<Pair>& out) const {
+    const QueryResult r = collide(a_, ma_, Pose::identity(), b_, mb_, pose, {.mode = QueryMode::all_pairs});
+    for (const TrianglePair& p : r.pairs) out.emplace_back(p.a, p.b);
+  }
+
+ private:
+  const Mesh& ma_;
+  const Mesh& mb_;
+  Tree a_, b_;
+};
+
+EngineInfo ours(const std::string& name, Fitter fitter) {
+  return {name, true, true, "",
+          [fitter](const Input& in) { return prepare([&] { return std::make_unique<TightbvhAdapter>(in, fitter); }); }};
+}
+
+// Our tree (fitter `method` everywhere, also below our leaves) exported into FCL's BVHModel<OBB>.
+EngineInfo exported(const std::string& name, FitMethod method) {
+  return {name, true, true, "",
+          [method](const Input& in) {
+            return prepare([&] {
+              FclExportOptions options;
+              options.fit.method = method;
+              using Obb = fcl::OBB<double>;
+              return std::make_unique<FclAdapter<Obb>>(to_fcl(build_tree(in.a, method), in.a, options),
+                                                       to_fcl(build_tree(in.b, method), in.b, options));
+            });
+          }};
+}
+
+// Brute force (every triangle pair) is affordable up to this many pairs per query.
+constexpr double kBruteForcePairs = 2e6;
+
+}  // namespace
+
+std::vector<EngineInfo> tightbvh_engines() {
+  return {ours("tightbvh-aabb", FitMethod::aabb),
+          ours("tightbvh-pca", FitMethod::pca),
+          ours("tightbvh-approx", FitMethod::approx),
+          ours("tightbvh-auto", AutoFit{}),
+          exported("fcl-export-pca", FitMethod::pca),
+          exported("fcl-export-approx", FitMethod::approx)};
+}
+
+struct Reference::Impl {
+  const Input& in;
+  bool brute = false;
+  Tree a, b;
+};
+
+Reference::Reference(const Input& in) : impl_(new Impl{in, false, {}, {}}) {
+  impl_->brute = double(in.a.triangles.size()) * double(in.b.triangles.size()) <= kBruteForcePairs;
+  // Axis-aligned boxes: the simplest boxes, so the reference does not lean on a tight fitter.
+  impl_->a = build_tree(in.a, FitMethod::aabb);
+  impl_->b = build_tree(in.b, FitMethod::aabb);
+}
+Reference::~Reference() = default;
+
+bool Reference::collides(const Pose& p) const {
+  return collide(impl_->a, impl_->in.a, Pose::identity(), impl_->b, impl_->in.b, p, {.mode = QueryMode::first_hit})
+      .hit;
+}
+
+std::vector<Pair> Reference::pairs(const Pose& p) const {
+  const QueryOptions all{.mode = QueryMode::all_pairs};
+  const QueryResult r = impl_->brute ? collide_brute_force(impl_->in.a, Pose::identity(), impl_->in.b, p, all)
+                                     : collide(impl_->a, impl_->in.a, Pose::identity(), impl_->b, impl_->in.b, p, all);
+  std::vector<Pair> out;
+  out.reserve(r.pairs.size());
+  for (const TrianglePair& t : r.pairs) out.emplace_back(t.a, t.b);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::string Reference::description() const {
+  return impl_->brute ? "tightbvh collide_brute_force (every triangle pair), all pairs"
+                      : "tightbvh collide all_pairs on AABB trees (verified against brute force by the collide "
+                        "tests; meshes too large for brute force here)";
+}
+
+}  // namespace tightbvh::bench

@@ -1,0 +1,166 @@
+#include "poses.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include <Eigen/Geometry>
+
+namespace tightbvh::bench {
+
+std::string_view to_string(Scenario s) {
+  switch (s) {
+    case Scenario::overlap: return "overlap";
+    case Scenario::near: return "near";
+    case Scenario::separated: return "separated";
+  }
+  return "?";
+}
+
+std::optional<Scenario> parse_scenario(std::string_view name) {
+  for (Scenario s : {Scenario::overlap, Scenario::near, Scenario::separated})
+    if (to_string(s) == name) return s;
+  return std::nullopt;
+}
+
+Sphere bounding_sphere(const Mesh& mesh) {
+  Sphere s;
+  s.center = bounds_of(mesh.vertices).center();
+  for (const Vec3& v : mesh.vertices) s.radius = std::max(s.radius, (v - s.center).norm());
+  return s;
+}
+
+namespace {
+
+Mat3 random_rotation(std::mt19937_64& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  Eigen::Quaterniond q(n(rng), n(rng), n(rng), n(rng));  // uniform on SO(3) once normalised
+  q.normalize();
+  return q.toRotationMatrix();
+}
+
+Vec3 random_direction(std::mt19937_64& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  Vec3 d;
+  do d = Vec3(n(rng), n(rng), n(rng));
+  while (d.norm() < 1e-9);
+  return d.normalized();
+}
+
+// Pose putting B's (rotated) center at `where`.
+Pose place(const Mat3& rotation, const Vec3& b_center, const Vec3& where) {
+  return {rotation, where - rotation * b_center};
+}
+
+// Distance s along `dir` from A's center where B (with `rotation`) first touches A when coming
+// from far away: march inwards until a collision, then bisect between the last free and the
+// first touching sample. Returns 0 if B touches A at every sample.
+double first_contact(const Sphere& sa, const Sphere& sb, const Mat3& rotation, const Vec3& dir,
+                     const std::function<bool(const Pose&)>& collides) {
+  const auto at = [&](double s) { return collides(place(rotation, sb.center, sa.center + s * dir)); };
+  const double far = sa.radius + sb.radius;  // spheres apart beyond this
+  constexpr int kSteps = 64;
+  double free = far * 1.001, hit = -1;
+  for (int i = 1; i <= kSteps; ++i) {
+    const double s = far * (1.0 - double(i) / kSteps);
+    if (at(s)) {
+      hit = s;
+      break;
+    }
+    free = s;
+  }
+  if (hit < 0) return 0;  // never touches along this line (e.g. through a hole): caller retries
+  for (int i = 0; i < 60 && free - hit > 1e-12 * far; ++i) {
+    const double mid = 0.5 * (free + hit);
+    (at(mid) ? hit : free) = mid;
+  }
+  return free;  // the last known free distance: within bisection tolerance of contact
+}
+
+}  // namespace
+
+std::vector<Pose> generate_poses(const Mesh& a, const Mesh& b, Scenario scenario, int count, std::uint64_t seed,
+                                 const std::function<bool(const Pose&)>& collides) {
+  const Sphere sa = bounding_sphere(a), sb = bounding_sphere(b);
+  // Each scenario gets its own stream, so `all` and a single scenario give the same poses.
+  std::mt19937_64 rng(seed * 1000003u + static_cast<std::uint64_t>(scenario));
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Pose> poses;
+  poses.reserve(count);
+  int attempts = 0;
+  while (int(poses.size()) < count) {
+    const Mat3 rot = random_rotation(rng);
+    const Vec3 dir = random_direction(rng);
+    if (scenario == Scenario::overlap) {
+      const double r = 0.25 * std::min(sa.radius, sb.radius) * std::cbrt(u(rng));
+      poses.push_back(place(rot, sb.center, sa.center + r * dir));
+      continue;
+    }
+    const double s = first_contact(sa, sb, rot, dir, collides);
+    if (s <= 0 && ++attempts < 100 * count) continue;  // no contact along this line: another one
+    const double offset = scenario == Scenario::near ? (2.0 * u(rng) - 1.0) * 0.01 * sb.radius
+                                                     : (0.05 + 0.20 * u(rng)) * sb.radius;
+    poses.push_back(place(rot, sb.center, sa.center + (s + offset) * dir));
+  }
+  return poses;
+}
+
+std::vector<Pose> read_poses(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path.string() + ": cannot open pose file");
+  std::vector<Pose> poses;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+    std::istringstream fields(line);
+    std::vector<double> v;
+    std::string token;
+    const auto where = [&] { return path.string() + ":" + std::to_string(number) + ": "; };
+    while (fields >> token) {
+      std::size_t used = 0;
+      double x = 0;
+      try {
+        x = std::stod(token, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != token.size()) throw InputError(where() + "not a number: '" + token + "'");
+      if (!std::isfinite(x)) throw InputError(where() + "not finite: '" + token + "'");
+      v.push_back(x);
+    }
+    if (v.empty()) continue;
+    if (v.size() != 12)
+      throw InputError(where() + "expected 12 numbers (r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz), got " +
+                       std::to_string(v.size()));
+    Pose p;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) p.rotation(r, c) = v[3 * r + c];
+    p.translation = Vec3(v[9], v[10], v[11]);
+    const double err = (p.rotation.transpose() * p.rotation - Mat3::Identity()).cwiseAbs().maxCoeff();
+    if (err > 1e-6) {
+      std::ostringstream msg;
+      msg << where() << "rotation is not orthonormal (max |R^T R - I| = " << err << ")";
+      throw InputError(msg.str());
+    }
+    if (p.rotation.determinant() < 0) throw InputError(where() + "rotation has determinant -1 (a reflection)");
+    poses.push_back(p);
+  }
+  if (poses.empty()) throw InputError(path.string() + ": no poses");
+  return poses;
+}
+
+void write_poses(const std::filesystem::path& path, const std::vector<Pose>& poses, const std::string& header) {
+  std::ofstream out(path);
+  if (!out) throw InputError(path.string() + ": cannot write pose file");
+  out << "# " << header << "\n# r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz (B's vertices in A's frame)\n";
+  out.precision(17);
+  for (const Pose& p : poses) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) out << p.rotation(r, c) << ' ';
+    out << p.translation.x() << ' ' << p.translation.y() << ' ' << p.translation.z() << '\n';
+  }
+  if (!out) throw InputError(path.string() + ": write failed");
+}
+
+}  // namespace tightbvh::bench

@@ -1,0 +1,44 @@
+#pragma once
+// Pose scenarios and pose files. A pose is the rigid transform applied to B's vertices in A's
+// frame (A stays at identity).
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "tightbvh/mesh.hpp"
+#include "tightbvh/pose.hpp"
+
+namespace tightbvh::bench {
+
+enum class Scenario { overlap, near, separated };
+[[nodiscard]] std::string_view to_string(Scenario s);
+[[nodiscard]] std::optional<Scenario> parse_scenario(std::string_view name);
+
+// Bounding sphere (AABB center, max distance to a vertex) used to place the meshes.
+struct Sphere {
+  Vec3 center = Vec3::Zero();
+  double radius = 0;
+};
+[[nodiscard]] Sphere bounding_sphere(const Mesh& mesh);
+
+// `collides(pose)` answers whether B at `pose` touches A (our exact query).
+//   overlap:   B's center placed within 25% of the smaller radius of A's center (deep overlap)
+//   near:      B at first contact along a random direction (march in from outside, then
+//              bisection on `collides`), then jittered by +-1% of B's bounding radius
+//   separated: first contact pushed out by 5..25% of B's bounding radius (close but apart)
+// Rotations are uniform random. Deterministic for a given seed.
+[[nodiscard]] std::vector<Pose> generate_poses(const Mesh& a, const Mesh& b, Scenario scenario, int count,
+                                               std::uint64_t seed,
+                                               const std::function<bool(const Pose&)>& collides);
+
+// One pose per line: r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz; '#' starts a comment.
+// Throws InputError naming the file and line on a wrong count, a non-number, NaN/Inf or a
+// rotation that is not orthonormal with determinant +1 (tolerance 1e-6).
+[[nodiscard]] std::vector<Pose> read_poses(const std::filesystem::path& path);
+void write_poses(const std::filesystem::path& path, const std::vector<Pose>& poses, const std::string& header);
+
+}  // namespace tightbvh::bench

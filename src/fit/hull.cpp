@@ -8,6 +8,7 @@
 #include <string>
 
 #include "tightbvh/mesh.hpp"
+#include "../predicates.hpp"
 
 extern "C" {
 #include <libqhull_r/qhull_ra.h>
@@ -350,8 +351,10 @@ std::size_t convex_hull_2d(std::span<Vec2> points) {
             [](const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
   thread_local std::vector<Vec2> chain;
   chain.resize(2 * n + 1);
+  // The exact sign, not the rounded cross product: with rounded signs a nearly collinear point
+  // can be kept by both the lower and the upper chain, and the chain outgrows the input.
   const auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+    return detail::orient2d(o.x(), o.y(), a.x(), a.y(), b.x(), b.y());
   };
   std::size_t k = 0;
   for (std::size_t i = 0; i < n; ++i) {

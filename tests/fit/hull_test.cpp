@@ -9,6 +9,9 @@
 
 #include "test_util.hpp"
 #include "tightbvh/min_rect.hpp"
+#include "tightbvh/fit.hpp"
+#include "tightbvh/mesh.hpp"
+#include "../../src/predicates.hpp"
 
 namespace tightbvh {
 namespace {
@@ -106,6 +109,45 @@ TEST(Hull2, MonotoneChainDropsCollinearAndDuplicates) {
   EXPECT_EQ(convex_hull_2d(same), 1u);
   std::vector<Vec2> line{{0, 0}, {1, 1}, {3, 3}, {2, 2}};
   EXPECT_EQ(convex_hull_2d(line), 2u);
+}
+
+// Nearly collinear sets: rounded cross products can keep a point in both the lower and the upper
+// chain, which once made the chain longer than the input (a heap overflow found under ASan).
+TEST(Hull2, NearlyCollinearSetsGiveAStrictlyConvexHullOfTheInput) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const double slope = unit(rng) * 3, offset = unit(rng);
+    std::vector<Vec2> input(3 + trial % 40);
+    for (Vec2& p : input) {
+      const double t = unit(rng);
+      p = Vec2(t, slope * t + offset);
+    }
+    std::vector<Vec2> hull = input;
+    const std::size_t n = convex_hull_2d(hull);
+    ASSERT_LE(n, input.size());
+    hull.resize(n);
+    if (n < 3) continue;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec2& a = hull[i];
+      const Vec2& b = hull[(i + 1) % n];
+      const Vec2& c = hull[(i + 2) % n];
+      ASSERT_GT(detail::orient2d(a.x(), a.y(), b.x(), b.y(), c.x(), c.y()), 0) << "trial " << trial;
+      for (const Vec2& p : input) ASSERT_GE(detail::orient2d(a.x(), a.y(), b.x(), b.y(), p.x(), p.y()), 0);
+    }
+  }
+}
+
+// The input that overflowed the 2D hull inside Bopt: two triangles of elephant.off sharing an edge.
+TEST(Hull2, ElephantTrianglesThatOverflowedTheChain) {
+  const Mesh mesh = load_mesh(std::string(TIGHTBVH_SOURCE_DIR) + "/meshes/elephant.off");
+  std::vector<Vec3> corners;
+  for (const std::size_t t : {3984u, 3985u})
+    for (const Vec3& c : mesh.corners(t)) corners.push_back(c);
+  for (const FitMethod method : {FitMethod::diameter, FitMethod::approx, FitMethod::exact}) {
+    const Obb box = fit_triangles(corners, {.method = method});
+    for (const Vec3& c : corners) EXPECT_TRUE(box.contains(c, containment_tolerance(box))) << to_string(method);
+  }
 }
 
 TEST(MinRect, RotatedRectangleIsRecovered) {

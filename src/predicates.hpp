@@ -1,5 +1,6 @@
 #pragma once
-// Exact orientation predicates for double coordinates (internal to src/collide).
+// Exact orientation predicates for double coordinates (internal to the library: used by the
+// triangle-triangle test and by the 2D hull, whose monotone chain needs consistent signs).
 //
 // Each predicate first evaluates the determinant in double precision with a forward error bound
 // (a static filter in the style of Shewchuk 1997, "Adaptive Precision Floating-Point Arithmetic

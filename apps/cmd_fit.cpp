@@ -1,6 +1,7 @@
 // tightbvh fit MESH --method aabb|pca|pca-vertex|diameter|approx|approx-snap|exact|all
 //                   [--grid K] [--epsilon E] [--json]
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -30,11 +31,13 @@ void add_fit_command(CLI::App& app) {
                    ->check(CLI::Range(1, 64))
                    ->capture_default_str();
   auto* eps = cmd->add_option("--epsilon", args->epsilon,
-                              "approx: target (1+e) approximation (chooses k); approx-snap: snapping grid")
-                  ->check(CLI::PositiveNumber);
+                              "approx: target (1+e) approximation (chooses k); approx-snap: snapping grid");
   grid->excludes(eps);
   cmd->add_flag("--json", args->json, "print JSON instead of text");
   cmd->callback([args, eps] {
+    // Checked here, before any output; CLI11's PositiveNumber would print DBL_MAX in full.
+    if (eps->count() > 0 && !(args->epsilon > 0.0 && std::isfinite(args->epsilon)))
+      throw InputError("--epsilon must be a positive finite number, got " + eps->as<std::string>());
     std::vector<FitMethod> methods;
     if (args->method == "all") {
       methods = {FitMethod::aabb,   FitMethod::pca,         FitMethod::pca_vertex, FitMethod::diameter,

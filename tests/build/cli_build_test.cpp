@@ -10,31 +10,15 @@
 #include <string>
 #include <sys/wait.h>
 
+#include "../cli_runner.hpp"
 #include "build_test_util.hpp"
 
 namespace tightbvh {
 namespace {
 
-struct CliRun {
-  int status = -1;
-  std::string out;  // stdout; stderr goes to err_file
-  std::string err;
-};
+using test::CliRun;
 
-CliRun run(const std::string& args) {
-  const auto err_file = std::filesystem::temp_directory_path() / "tightbvh_cli_build_test.err";
-  const std::string command = (test::binary_dir() / "bin/tightbvh").string() + " " + args + " 2>" + err_file.string();
-  CliRun r;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return r;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) r.out += buffer.data();
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream err(err_file);
-  r.err.assign(std::istreambuf_iterator<char>(err), {});
-  return r;
-}
+CliRun run(const std::string& args) { return test::run_cli(args); }
 
 std::string mesh(const char* name) { return (test::source_dir() / "meshes" / name).string(); }
 std::string temp(const char* name) {

@@ -10,28 +10,13 @@
 #include <string>
 #include <sys/wait.h>
 
+#include "../cli_runner.hpp"
 namespace tightbvh {
 namespace {
 
-struct CliRun {
-  int status = -1;
-  std::string out, err;
-};
+using test::CliRun;
 
-CliRun run(const std::string& args) {
-  const auto err_file = std::filesystem::temp_directory_path() / "tightbvh_cli_collide_test.err";
-  const std::string command = std::string(TIGHTBVH_BINARY_DIR) + "/bin/tightbvh collide " + args + " 2>" + err_file.string();
-  CliRun r;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return r;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) r.out += buffer.data();
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream err(err_file);
-  r.err.assign(std::istreambuf_iterator<char>(err), {});
-  return r;
-}
+CliRun run(const std::string& args) { return test::run_cli("collide " + args); }
 
 std::string meshes() {
   const std::string dir = std::string(TIGHTBVH_SOURCE_DIR) + "/meshes/";

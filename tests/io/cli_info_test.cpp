@@ -1,36 +1,23 @@
 // `tightbvh info` as a user runs it: exit status, stdout, stderr.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
+#include "../cli_runner.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path cli = fs::path(TIGHTBVH_BINARY_DIR) / "bin" / "tightbvh";
+const fs::path cli = tightbvh::test::cli_path();
 const fs::path meshes = fs::path(TIGHTBVH_SOURCE_DIR) / "meshes";
 
-struct Outcome {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
+using Outcome = tightbvh::test::CliRun;
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (const char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
+const auto quote = tightbvh::test::shell_quote;
 
 class CliInfo : public ::testing::Test {
  protected:
@@ -43,18 +30,7 @@ class CliInfo : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  Outcome run(const std::string& args) const {
-    const fs::path out = dir_ / "stdout";
-    const fs::path err = dir_ / "stderr";
-    const std::string command =
-        quote(cli.string()) + " " + args + " >" + quote(out.string()) + " 2>" + quote(err.string());
-    const int raw = std::system(command.c_str());
-    Outcome r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-  }
+  static Outcome run(const std::string& args) { return tightbvh::test::run_cli(args); }
 
   static void expect_one_line_error(const Outcome& r, const std::string& fragment) {
     EXPECT_NE(r.status, 0);

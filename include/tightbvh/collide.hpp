@@ -75,6 +75,7 @@ struct QueryResult {
 [[nodiscard]] Pose relative_pose(const Pose& pa, const Pose& pb);
 
 // Tree `a` must have been built over mesh `ma` (and `b` over `mb`); boxes in the mesh frames.
+// A tree whose triangle count differs from its mesh's throws InputError; an empty tree never hits.
 [[nodiscard]] QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa,  //
                                   const Tree& b, const Mesh& mb, const Pose& pb,  //
                                   const QueryOptions& options = {});

@@ -6,6 +6,7 @@
 #include <array>
 #include <atomic>
 #include <exception>
+#include <string>
 #include <thread>
 
 #include "tightbvh/obb_overlap.hpp"
@@ -161,6 +162,15 @@ void traverse(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& mb, co
   result.stats.triangle_tests += triangle_tests;
 }
 
+// O(1) guard against the common mistake of pairing a tree with another mesh, which would
+// otherwise index out of range in the leaves. (Full checking is validate(tree, mesh).)
+void check_tree_fits_mesh(const Tree& tree, const Mesh& mesh, const char* which) {
+  if (tree.triangle_order.size() != mesh.triangles.size())
+    throw InputError(std::string("collide: tree ") + which + " was built over " +
+                     std::to_string(tree.triangle_order.size()) + " triangles but mesh " + which + " has " +
+                     std::to_string(mesh.triangles.size()));
+}
+
 void finish(QueryResult& result) {
   std::sort(result.pairs.begin(), result.pairs.end());
   result.pairs.erase(std::unique(result.pairs.begin(), result.pairs.end()), result.pairs.end());
@@ -174,6 +184,8 @@ QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b
                     const QueryOptions& options) {
   QueryResult result;
   if (a.nodes.empty() || b.nodes.empty()) return result;
+  check_tree_fits_mesh(a, ma, "A");
+  check_tree_fits_mesh(b, mb, "B");
   const Pose rel = relative_pose(pa, pb);
   if (options.mode == QueryMode::first_hit) {
     traverse<true>(a, ma, b, mb, rel, options.descend, result);

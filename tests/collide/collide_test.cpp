@@ -370,7 +370,7 @@ TEST(CollideEdgeCases, VeryDeepTreeSpillsTheStack) {
   EXPECT_EQ(r.pairs, reference.pairs);
 }
 
-TEST(CollideEdgeCases, EmptyTreesAndRelativePose) {
+TEST(CollideEdgeCases, EmptyTreesMismatchedMeshesAndRelativePose) {
   const Mesh m = cube();
   const Tree t = build(m, {.fitter = FitMethod::aabb, .threads = 1});
   EXPECT_FALSE(collide(Tree{}, m, Pose::identity(), t, m, Pose::identity()).hit);
@@ -378,6 +378,11 @@ TEST(CollideEdgeCases, EmptyTreesAndRelativePose) {
   const Pose pa{random_rotation(rng), Vec3(1, 2, 3)}, pb{random_rotation(rng), Vec3(-1, 0, 2)};
   const Pose rel = relative_pose(pa, pb);
   const Vec3 x(0.3, -0.2, 0.9);
+  // A tree paired with another mesh is an error, not an out-of-range read.
+  Mesh two = m;
+  two.triangles.resize(2);
+  EXPECT_THROW((void)collide(t, two, Pose::identity(), t, m, Pose::identity()), InputError);
+  EXPECT_THROW((void)collide(t, m, Pose::identity(), t, two, Pose::identity()), InputError);
   EXPECT_LT((pa.apply(rel.apply(x)) - pb.apply(x)).norm(), 1e-12);
 }
 

@@ -63,6 +63,9 @@ struct Progress {
 
 int main(int argc, char** argv) {
   CLI::App app{"tightbvh-bench: tree-vs-tree collision queries, tightbvh vs FCL, Bullet and ODE"};
+  // A later occurrence of an option overrides an earlier one, so scripts/run can pass defaults
+  // and let its own arguments override them.
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   std::string mesh_a = default_mesh("elephant.off"), mesh_b = default_mesh("knot1.off");
   std::string engines_arg = "all", scenario_arg = "all", modes_arg = "first_hit,all_pairs";
   std::string poses_file, write_poses_file, json_file, csv_file, report_dir;

@@ -43,26 +43,16 @@ const Mesh& patch(const std::string& name, std::size_t count = 600) {
   return it->second;
 }
 
-// Every fitter that is implemented in this build (the others throw std::logic_error).
+// The fitters whose trees are exported in these tests. approx-snap is left out: its boxes take
+// the same export path as exact's, but each node costs an exact box of a snapped hull up to 8x
+// larger (seconds for a 20-triangle patch); its containment is tested in tests/fit and tests/build.
 std::vector<FitMethod> available_fitters() {
-  std::vector<FitMethod> out;
-  const std::vector<Vec3> probe{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}, {0.5, 0.2, 0.9}};
-  for (FitMethod m : {FitMethod::aabb, FitMethod::pca, FitMethod::pca_vertex, FitMethod::diameter, FitMethod::approx,
-                      FitMethod::approx_snap, FitMethod::exact}) {
-    try {
-      FitOptions o;
-      o.method = m;
-      (void)fit_triangles(probe, o);
-      out.push_back(m);
-    } catch (const std::logic_error&) {
-      std::cout << "[ fitter  ] " << to_string(m) << " not implemented yet: skipped\n";
-    }
-  }
-  return out;
+  return {FitMethod::aabb, FitMethod::pca,  FitMethod::pca_vertex, FitMethod::diameter,
+          FitMethod::approx, FitMethod::exact};
 }
 
-// exact and approx-snap cost milliseconds per node: they get smaller patches.
-bool slow(FitMethod m) { return m == FitMethod::exact || m == FitMethod::approx_snap; }
+// exact costs milliseconds per node: it gets smaller patches.
+bool slow(FitMethod m) { return m == FitMethod::exact; }
 
 Tree build_tree(const Mesh& mesh, FitMethod method, std::uint32_t leaf_size) {
   BuildOptions o;

@@ -10,6 +10,7 @@
 #include <span>
 #include <vector>
 
+#include "forge_checksum.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/serialize.hpp"
 #include "tightbvh/validate_tree.hpp"
@@ -25,15 +26,6 @@ void try_load(const std::vector<std::byte>& bytes) {
   }
 }
 
-// FNV-1a 64 over bytes [16, 32) and [40, end): the format's checksum (serialize.hpp).
-void fix_checksum(std::vector<std::byte>& bytes) {
-  std::uint64_t h = 14695981039346656037ull;
-  const auto mix = [&h](std::byte b) { h = (h ^ std::to_integer<std::uint8_t>(b)) * 1099511628211ull; };
-  for (std::size_t i = 16; i < 32; ++i) mix(bytes[i]);
-  for (std::size_t i = 40; i < bytes.size(); ++i) mix(bytes[i]);
-  for (int i = 0; i < 8; ++i) bytes[32 + i] = std::byte((h >> (8 * i)) & 0xff);
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -41,7 +33,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (std::size_t i = 0; i < size; ++i) bytes[i] = std::byte{data[i]};
   try_load(bytes);
   if (bytes.size() >= 40) {
-    fix_checksum(bytes);
+    tightbvh::test::fix_checksum(bytes);
     try_load(bytes);
   }
   return 0;

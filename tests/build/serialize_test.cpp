@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "build_test_util.hpp"
+#include "forge_checksum.hpp"
 #include "tightbvh/validate_tree.hpp"
 
 namespace tightbvh {
@@ -27,16 +28,6 @@ std::filesystem::path temp_file(const std::string& name) {
 void write_bytes(const std::filesystem::path& path, const std::vector<std::byte>& bytes) {
   std::ofstream out(path, std::ios::binary);
   out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-}
-
-// The format's checksum (serialize.hpp), recomputed so a test can forge a file whose checksum
-// is right but whose content is wrong.
-void fix_checksum(std::vector<std::byte>& bytes) {
-  std::uint64_t h = 14695981039346656037ull;
-  const auto mix = [&h](std::byte b) { h = (h ^ std::to_integer<std::uint8_t>(b)) * 1099511628211ull; };
-  for (std::size_t i = 16; i < 32; ++i) mix(bytes[i]);
-  for (std::size_t i = 40; i < bytes.size(); ++i) mix(bytes[i]);
-  for (int i = 0; i < 8; ++i) bytes[32 + i] = std::byte((h >> (8 * i)) & 0xff);
 }
 
 void put_u32(std::vector<std::byte>& bytes, std::size_t at, std::uint32_t v) {
@@ -127,19 +118,19 @@ TEST(Serialize, RejectsBadStructureWithValidChecksum) {
   const std::size_t root_first = 40 + 120;  // node 0: 15 doubles, then first, count
   auto child = good;
   put_u32(child, root_first, static_cast<std::uint32_t>(tree.nodes.size()));  // children out of range
-  fix_checksum(child);
+  test::fix_checksum(child);
   expect_rejected(child, "invalid tree structure: node 0: children");
   auto cycle = good;
   put_u32(cycle, root_first, 0);  // root's own child
-  fix_checksum(cycle);
+  test::fix_checksum(cycle);
   expect_rejected(cycle, "invalid tree structure");
   auto order = good;
   put_u32(order, order.size() - 4, 1u << 30);  // triangle index out of range
-  fix_checksum(order);
+  test::fix_checksum(order);
   expect_rejected(order, "out of range");
   auto nan = good;
   put_u64(nan, 40, 0x7ff8000000000000ull);  // root center x = NaN
-  fix_checksum(nan);
+  test::fix_checksum(nan);
   expect_rejected(nan, "non-finite");
 }
 

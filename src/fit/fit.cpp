@@ -80,6 +80,22 @@ Mat3 snap_axes(FitWorkspace::Scratch& s, double epsilon) {
   return exact_box(s.snap_geometry, s.exact, s.snap_bopt).axes;
 }
 
+// pca / pca-vertex: one pass for the moments, one for the extents, relative to the first point
+// (near the set, so far-away sets keep their precision). The finiteness check rides on the
+// extents pass: only when something is not finite is the input scanned for the bad point.
+Obb fit_pca(std::span<const Vec3> points, std::span<const Vec3> triangle_corners) {
+  using namespace fit_detail;
+  if (points.empty()) throw InputError("fit: empty point set");
+  const Vec3 origin = points[0];
+  if (!origin.allFinite()) check_finite(points);
+  const Mat3 axes = triangle_corners.empty() ? pca_vertex_axes(points, origin)
+                                             : pca_triangle_axes(triangle_corners, origin);
+  bool finite = true;
+  const Obb box = box_with_axes(points, axes, origin, finite);
+  if (!finite) check_finite(points);  // throws on NaN/Inf input; an overflow keeps the box
+  return box;
+}
+
 Obb fit_checked(std::span<const Vec3> points, std::span<const Vec3> triangle_corners, const FitOptions& options,
                 FitWorkspace& workspace) {
   using namespace fit_detail;
@@ -162,6 +178,10 @@ Obb fit_points(std::span<const Vec3> points, const FitOptions& options) {
 }
 
 Obb fit_points(std::span<const Vec3> points, const FitOptions& options, FitWorkspace& workspace) {
+  if (options.method == FitMethod::pca || options.method == FitMethod::pca_vertex) {
+    workspace.scratch().last_hull_vertices = 0;
+    return fit_pca(points, {});
+  }
   check_finite(points);
   return fit_checked(points, {}, options, workspace);
 }
@@ -173,6 +193,10 @@ Obb fit_triangles(std::span<const Vec3> corners, const FitOptions& options) {
 
 Obb fit_triangles(std::span<const Vec3> corners, const FitOptions& options, FitWorkspace& workspace) {
   if (corners.size() % 3 != 0) throw InputError("fit: triangle corners must come in threes");
+  if (options.method == FitMethod::pca || options.method == FitMethod::pca_vertex) {
+    workspace.scratch().last_hull_vertices = 0;
+    return fit_pca(corners, options.method == FitMethod::pca ? corners : std::span<const Vec3>{});
+  }
   check_finite(corners);
   return fit_checked(corners, corners, options, workspace);
 }

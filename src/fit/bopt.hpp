@@ -12,12 +12,17 @@ namespace tightbvh::fit_detail {
 
 // A solid (dimension 3) hull seen from a local origin: vertices are relative to `origin`
 // so that sets far from the coordinate origin keep their precision.
+// Without a hull (`hull == nullptr`, see reset_points) `local` holds a small point set whose
+// hull was never computed: Bopt then projects every point instead of the silhouette. That is
+// still exact for the direction (the 2D hull of the projection is the projection of the 3D
+// hull), and for a few dozen points cheaper than building the hull with qhull.
 struct HullGeometry {
   const ConvexHull3* hull = nullptr;
   Vec3 origin = Vec3::Zero();
   std::vector<Vec3> local;  // hull->vertices[i] - origin
 
   void reset(const ConvexHull3& h, const Vec3& o);
+  void reset_points(std::span<const Vec3> points, const Vec3& o);
   [[nodiscard]] std::size_t size() const { return local.size(); }
 };
 

@@ -133,16 +133,23 @@ AxisBox bopt(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
   return box;
 }
 
-AxisBox improve(const HullGeometry& g, AxisBox box, BoptScratch& scratch, double min_gain, int max_rounds) {
+AxisBox improve(const HullGeometry& g, AxisBox box, BoptScratch& scratch, double min_gain, int max_rounds,
+                bool from_bopt) {
   double volume = box.volume();
+  // A box made by Bopt(S, {v}) has v as its first axis, and re-solving along it gives the same
+  // box again: skip that axis when the box came from Bopt, and after any accepted candidate
+  // (which is a Bopt box along the axis it was made from).
+  bool skip_first = from_bopt;
   for (int round = 0; round < max_rounds; ++round) {
     const double start = volume;
     for (int axis = 0; axis < 3; ++axis) {
+      if (axis == 0 && skip_first) continue;
       const AxisBox candidate = bopt(g, box.axes.col(axis), scratch);
       const double cv = candidate.volume();
       if (cv < volume) {
         box = candidate;
         volume = cv;
+        skip_first = true;
       }
     }
     if (!(volume < start * (1.0 - min_gain))) break;

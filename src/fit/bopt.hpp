@@ -54,8 +54,9 @@ struct BoptScratch {
 // The local improvement step of Section 6.5: re-solve Bopt along each axis of the box while
 // a round lowers the volume by more than the relative `min_gain` (at most `max_rounds` rounds;
 // near a local minimum the gains shrink geometrically, coordinate-descent style).
+// `from_bopt`: `box` was returned by bopt() (its first axis is the Bopt direction, not re-solved).
 [[nodiscard]] AxisBox improve(const HullGeometry& g, AxisBox box, BoptScratch& scratch, double min_gain = 1e-12,
-                              int max_rounds = 64);
+                              int max_rounds = 64, bool from_bopt = false);
 
 // The extents of the hull along given axes (exact, by scanning all hull vertices).
 [[nodiscard]] AxisBox box_of_hull(const HullGeometry& g, const Mat3& axes);

@@ -56,7 +56,7 @@ std::vector<Vec3> gaussian(std::size_t n) {
 }
 
 void register_all() {
-  for (const std::size_t n : {10, 100, 1000, 10000}) {
+  for (const std::size_t n : {10, 30, 100, 1000, 10000}) {
     for (const bool from_mesh : {true, false}) {
       const std::string src = from_mesh ? "mesh-node" : "gaussian";
       const auto points = std::make_shared<std::vector<Vec3>>(from_mesh ? mesh_node(n) : gaussian(n));

@@ -45,7 +45,8 @@ class FitWorkspace {
   FitWorkspace(const FitWorkspace&) = delete;
   FitWorkspace& operator=(const FitWorkspace&) = delete;
 
-  // Number of convex-hull vertices used by the last fit (0 when the method needs no hull).
+  // Number of convex-hull vertices used by the last fit (0 when the method needs no hull; for
+  // the small sets that skip the hull, see kSmallSet in fit.cpp: the distinct input points).
   [[nodiscard]] std::size_t last_hull_vertices() const;
 
   struct Scratch;

@@ -53,8 +53,9 @@ class HullWorkspace {
 };
 
 // The convex hull of finite points (duplicates, coplanar and collinear sets are fine).
-// Uses qhull (reentrant API, triangulated output 'Qt'; joggled 'QJ' as a fallback when the
-// default precision handling reports an error). Throws InputError on an empty set.
+// Uses qhull (reentrant API, triangulated output 'Qt', near-inside points not partitioned 'Q8';
+// joggled 'QJ' as a fallback when the default precision handling reports an error). Throws
+// InputError on an empty set.
 [[nodiscard]] ConvexHull3 convex_hull(std::span<const Vec3> points);
 void convex_hull(std::span<const Vec3> points, ConvexHull3& out, HullWorkspace& workspace);
 

@@ -1,5 +1,6 @@
 #include "bopt.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -12,6 +13,13 @@ void HullGeometry::reset(const ConvexHull3& h, const Vec3& o) {
   origin = o;
   local.resize(h.vertices.size());
   for (std::size_t i = 0; i < local.size(); ++i) local[i] = h.vertices[i] - o;
+}
+
+void HullGeometry::reset_points(std::span<const Vec3> points, const Vec3& o) {
+  hull = nullptr;
+  origin = o;
+  local.resize(points.size());
+  for (std::size_t i = 0; i < local.size(); ++i) local[i] = points[i] - o;
 }
 
 std::uint32_t extreme_vertex(const HullGeometry& g, const Vec3& dir, std::uint32_t start) {
@@ -49,8 +57,37 @@ AxisBox box_of_hull(const HullGeometry& g, const Mat3& axes) {
   return box;
 }
 
+namespace {
+
+// Bopt for a geometry without hull: project every point, extents along v by a scan.
+AxisBox bopt_points(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
+  const Mat3 frame = frame_from_axis(v);
+  const Vec3 a = frame.col(0), u = frame.col(1), w = frame.col(2);
+  s.projected.resize(g.local.size());
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::size_t i = 0; i < g.local.size(); ++i) {
+    const Vec3& p = g.local[i];
+    const double t = a.dot(p);
+    lo = std::min(lo, t);
+    hi = std::max(hi, t);
+    s.projected[i] = Vec2(u.dot(p), w.dot(p));
+  }
+  const std::size_t m = convex_hull_2d(s.projected);
+  const Rect2 rect = min_area_rect(std::span<const Vec2>(s.projected.data(), m));
+  AxisBox box;
+  box.axes.col(0) = a;
+  box.axes.col(1) = rect.axis.x() * u + rect.axis.y() * w;
+  box.axes.col(2) = a.cross(box.axes.col(1));
+  box.lo = Vec3(lo, rect.min.x(), rect.min.y());
+  box.hi = Vec3(hi, rect.max.x(), rect.max.y());
+  return box;
+}
+
+}  // namespace
+
 AxisBox bopt(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
   ++s.calls;
+  if (g.hull == nullptr) return bopt_points(g, v, s);
   const ConvexHull3& hull = *g.hull;
   const Mat3 frame = frame_from_axis(v);
   const Vec3 a = frame.col(0), u = frame.col(1), w = frame.col(2);
@@ -96,16 +133,23 @@ AxisBox bopt(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
   return box;
 }
 
-AxisBox improve(const HullGeometry& g, AxisBox box, BoptScratch& scratch, double min_gain, int max_rounds) {
+AxisBox improve(const HullGeometry& g, AxisBox box, BoptScratch& scratch, double min_gain, int max_rounds,
+                bool from_bopt) {
   double volume = box.volume();
+  // A box made by Bopt(S, {v}) has v as its first axis, and re-solving along it gives the same
+  // box again: skip that axis when the box came from Bopt, and after any accepted candidate
+  // (which is a Bopt box along the axis it was made from).
+  bool skip_first = from_bopt;
   for (int round = 0; round < max_rounds; ++round) {
     const double start = volume;
     for (int axis = 0; axis < 3; ++axis) {
+      if (axis == 0 && skip_first) continue;
       const AxisBox candidate = bopt(g, box.axes.col(axis), scratch);
       const double cv = candidate.volume();
       if (cv < volume) {
         box = candidate;
         volume = cv;
+        skip_first = true;
       }
     }
     if (!(volume < start * (1.0 - min_gain))) break;

@@ -12,12 +12,17 @@ namespace tightbvh::fit_detail {
 
 // A solid (dimension 3) hull seen from a local origin: vertices are relative to `origin`
 // so that sets far from the coordinate origin keep their precision.
+// Without a hull (`hull == nullptr`, see reset_points) `local` holds a small point set whose
+// hull was never computed: Bopt then projects every point instead of the silhouette. That is
+// still exact for the direction (the 2D hull of the projection is the projection of the 3D
+// hull), and for a few dozen points cheaper than building the hull with qhull.
 struct HullGeometry {
   const ConvexHull3* hull = nullptr;
   Vec3 origin = Vec3::Zero();
   std::vector<Vec3> local;  // hull->vertices[i] - origin
 
   void reset(const ConvexHull3& h, const Vec3& o);
+  void reset_points(std::span<const Vec3> points, const Vec3& o);
   [[nodiscard]] std::size_t size() const { return local.size(); }
 };
 
@@ -49,8 +54,9 @@ struct BoptScratch {
 // The local improvement step of Section 6.5: re-solve Bopt along each axis of the box while
 // a round lowers the volume by more than the relative `min_gain` (at most `max_rounds` rounds;
 // near a local minimum the gains shrink geometrically, coordinate-descent style).
+// `from_bopt`: `box` was returned by bopt() (its first axis is the Bopt direction, not re-solved).
 [[nodiscard]] AxisBox improve(const HullGeometry& g, AxisBox box, BoptScratch& scratch, double min_gain = 1e-12,
-                              int max_rounds = 64);
+                              int max_rounds = 64, bool from_bopt = false);
 
 // The extents of the hull along given axes (exact, by scanning all hull vertices).
 [[nodiscard]] AxisBox box_of_hull(const HullGeometry& g, const Mat3& axes);

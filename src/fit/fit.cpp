@@ -53,6 +53,53 @@ Mat3 degenerate_axes(const ConvexHull3& hull, std::vector<Vec2>& polygon) {
   return fit_detail::orthonormalize(axes);
 }
 
+// Sets with at most this many distinct points skip the 3D hull in `approx` and `diameter`:
+// Bopt projects all points instead of the hull's silhouette (same boxes), which on such sets
+// costs less than qhull's fixed ~18 us per call (most tree nodes are this small).
+constexpr std::size_t kSmallSet = 32;
+
+// The distinct points of a small set (sorted), or false when there are more than kSmallSet.
+bool distinct_small(std::span<const Vec3> points, std::vector<Vec3>& out) {
+  if (points.size() > 4 * kSmallSet) return false;
+  out.assign(points.begin(), points.end());
+  const auto less = [](const Vec3& a, const Vec3& b) {
+    return a.x() < b.x() || (a.x() == b.x() && (a.y() < b.y() || (a.y() == b.y() && a.z() < b.z())));
+  };
+  std::sort(out.begin(), out.end(), less);
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out.size() <= kSmallSet;
+}
+
+// True when the set is clearly three-dimensional: convex_hull's dimension test (extreme pair
+// along the longest bounding-box axis, farthest point from that line, farthest from that plane)
+// with a much wider margin, so nearly flat sets still take the hull path and its handling.
+bool clearly_solid(std::span<const Vec3> p) {
+  const Aabb bounds = bounds_of(p);
+  int axis = 0;
+  bounds.extents().maxCoeff(&axis);
+  std::size_t ia = 0, ib = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p[i][axis] < p[ia][axis]) ia = i;
+    if (p[i][axis] > p[ib][axis]) ib = i;
+  }
+  const Vec3 d = p[ib] - p[ia];
+  const double length = d.norm();
+  if (!(length > 1e-9 * bounds.center().cwiseAbs().maxCoeff()) || length == 0.0) return false;
+  const Vec3 dir = d / length;
+  std::size_t ic = ia;
+  double best = -1.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3 e = p[i] - p[ia];
+    const double dist = (e - e.dot(dir) * dir).squaredNorm();
+    if (dist > best) best = dist, ic = i;
+  }
+  if (!(std::sqrt(best) > 1e-6 * length)) return false;
+  const Vec3 normal = d.cross(p[ic] - p[ia]).normalized();
+  double height = 0.0;
+  for (const Vec3& q : p) height = std::max(height, std::abs((q - p[ia]).dot(normal)));
+  return height > 1e-6 * length;
+}
+
 // ApproxMinVolBbx (Section 6.3, Fig. 6.2): snap the hull vertices to the 8 corners of their
 // cell of G = Grid(B_eps / 2), B_eps = (eps / 200) B*(S), then the exact box of the snapped hull.
 Mat3 snap_axes(FitWorkspace::Scratch& s, double epsilon) {
@@ -80,6 +127,22 @@ Mat3 snap_axes(FitWorkspace::Scratch& s, double epsilon) {
   return exact_box(s.snap_geometry, s.exact, s.snap_bopt).axes;
 }
 
+// pca / pca-vertex: one pass for the moments, one for the extents, relative to the first point
+// (near the set, so far-away sets keep their precision). The finiteness check rides on the
+// extents pass: only when something is not finite is the input scanned for the bad point.
+Obb fit_pca(std::span<const Vec3> points, std::span<const Vec3> triangle_corners) {
+  using namespace fit_detail;
+  if (points.empty()) throw InputError("fit: empty point set");
+  const Vec3 origin = points[0];
+  if (!origin.allFinite()) check_finite(points);
+  const Mat3 axes = triangle_corners.empty() ? pca_vertex_axes(points, origin)
+                                             : pca_triangle_axes(triangle_corners, origin);
+  bool finite = true;
+  const Obb box = box_with_axes(points, axes, origin, finite);
+  if (!finite) check_finite(points);  // throws on NaN/Inf input; an overflow keeps the box
+  return box;
+}
+
 Obb fit_checked(std::span<const Vec3> points, std::span<const Vec3> triangle_corners, const FitOptions& options,
                 FitWorkspace& workspace) {
   using namespace fit_detail;
@@ -99,10 +162,16 @@ Obb fit_checked(std::span<const Vec3> points, std::span<const Vec3> triangle_cor
       break;
   }
   // Hull-based methods.
-  convex_hull(points, s.hull, s.hull_workspace);
-  s.last_hull_vertices = s.hull.vertices.size();
-  if (s.hull.dimension < 3) return box_with_axes(points, degenerate_axes(s.hull, s.polygon), origin);
-  s.geometry.reset(s.hull, origin);
+  if ((options.method == FitMethod::approx || options.method == FitMethod::diameter) &&
+      distinct_small(points, s.distinct) && clearly_solid(s.distinct)) {
+    s.geometry.reset_points(s.distinct, origin);  // no hull: Bopt projects every point
+    s.last_hull_vertices = s.distinct.size();
+  } else {
+    convex_hull(points, s.hull, s.hull_workspace);
+    s.last_hull_vertices = s.hull.vertices.size();
+    if (s.hull.dimension < 3) return box_with_axes(points, degenerate_axes(s.hull, s.polygon), origin);
+    s.geometry.reset(s.hull, origin);
+  }
   Mat3 axes;
   switch (options.method) {
     case FitMethod::diameter:
@@ -162,6 +231,10 @@ Obb fit_points(std::span<const Vec3> points, const FitOptions& options) {
 }
 
 Obb fit_points(std::span<const Vec3> points, const FitOptions& options, FitWorkspace& workspace) {
+  if (options.method == FitMethod::pca || options.method == FitMethod::pca_vertex) {
+    workspace.scratch().last_hull_vertices = 0;
+    return fit_pca(points, {});
+  }
   check_finite(points);
   return fit_checked(points, {}, options, workspace);
 }
@@ -173,6 +246,10 @@ Obb fit_triangles(std::span<const Vec3> corners, const FitOptions& options) {
 
 Obb fit_triangles(std::span<const Vec3> corners, const FitOptions& options, FitWorkspace& workspace) {
   if (corners.size() % 3 != 0) throw InputError("fit: triangle corners must come in threes");
+  if (options.method == FitMethod::pca || options.method == FitMethod::pca_vertex) {
+    workspace.scratch().last_hull_vertices = 0;
+    return fit_pca(corners, options.method == FitMethod::pca ? corners : std::span<const Vec3>{});
+  }
   check_finite(corners);
   return fit_checked(corners, corners, options, workspace);
 }

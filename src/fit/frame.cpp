@@ -45,14 +45,22 @@ Mat3 orthonormalize(const Mat3& axes) {
 Vec3 local_origin(std::span<const Vec3> points) { return bounds_of(points).center(); }
 
 Obb box_with_axes(std::span<const Vec3> points, const Mat3& axes, const Vec3& origin) {
+  bool finite = true;
+  return box_with_axes(points, axes, origin, finite);
+}
+
+Obb box_with_axes(std::span<const Vec3> points, const Mat3& axes, const Vec3& origin, bool& finite) {
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
   Vec3 hi = -lo;
+  Vec3 sum = Vec3::Zero();  // NaN propagates through sums (min/max may silently drop it)
   const Mat3 rt = axes.transpose();
   for (const Vec3& p : points) {
     const Vec3 q = rt * (p - origin);
+    sum += q;
     lo = lo.cwiseMin(q);
     hi = hi.cwiseMax(q);
   }
+  finite = sum.allFinite();
   Obb box;
   box.axes = axes;
   box.half_extents = 0.5 * (hi - lo);

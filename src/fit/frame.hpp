@@ -18,6 +18,9 @@ namespace tightbvh::fit_detail {
 // Projections are taken relative to `origin` (use a point near the set) so that a set far
 // from the origin (1e6) keeps its relative precision.
 [[nodiscard]] Obb box_with_axes(std::span<const Vec3> points, const Mat3& axes, const Vec3& origin);
+// The same, also telling whether every projected coordinate was finite (a NaN/Inf input point,
+// or an overflow, makes `finite` false): lets a caller skip a separate finiteness pass.
+[[nodiscard]] Obb box_with_axes(std::span<const Vec3> points, const Mat3& axes, const Vec3& origin, bool& finite);
 
 // A point of the set's bounding box center, used as the local origin.
 [[nodiscard]] Vec3 local_origin(std::span<const Vec3> points);

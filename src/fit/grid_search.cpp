@@ -40,6 +40,7 @@ AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool imp
   constexpr int kStarts = 4;
   std::array<AxisBox, kStarts> top;
   std::array<double, kStarts> top_volume;
+  std::array<bool, kStarts> top_bopt{};  // false for B*(S) itself (not a Bopt box)
   top.fill(bstar);
   top_volume.fill(std::numeric_limits<double>::infinity());
   top_volume[0] = bstar.volume();
@@ -54,17 +55,19 @@ AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool imp
     while (at > 0 && volume < top_volume[at - 1]) {
       top_volume[at] = top_volume[at - 1];
       top[at] = top[at - 1];
+      top_bopt[at] = top_bopt[at - 1];
       --at;
     }
     top_volume[at] = volume;
     top[at] = box;
+    top_bopt[at] = true;
   }
   if (!improve_step) return top[0];
   AxisBox best = top[0];
   double best_volume = top_volume[0];
   for (int i = 0; i < kStarts; ++i) {
     if (!(top_volume[i] < std::numeric_limits<double>::infinity())) break;
-    const AxisBox improved = improve(g, top[i], scratch, 1e-6, 16);
+    const AxisBox improved = improve(g, top[i], scratch, 1e-6, 16, top_bopt[i]);
     if (improved.volume() < best_volume) best_volume = improved.volume(), best = improved;
   }
   return best;

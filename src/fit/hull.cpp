@@ -334,8 +334,11 @@ void convex_hull(std::span<const Vec3> points, ConvexHull3& out, HullWorkspace& 
 
   prefilter(points, origin, s);
   // 'Qt': triangulated output (merged coplanar facets are split into triangles that share the
-  // merged facet's normal). If qhull reports a precision error, 'QJ' joggles the input instead.
-  if (run_qhull(points, s, "Qt", out) || run_qhull(points, s, "QJ", out)) {
+  // merged facet's normal). 'Q8': do not partition near-inside points to facets (they can never
+  // be vertices; CAD meshes such as fandisk_large and blade have thousands of points on flat hull
+  // faces: 25% and 13% less time for their approx box). If qhull reports a precision error, 'QJ'
+  // joggles the input instead.
+  if (run_qhull(points, s, "Qt Q8", out) || run_qhull(points, s, "QJ", out)) {
     out.dimension = 3;
     build_adjacency(out, s);
     return;

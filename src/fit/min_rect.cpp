@@ -40,10 +40,12 @@ Rect2 min_area_rect(std::span<const Vec2> polygon) {
   double best_area = std::numeric_limits<double>::infinity();
   std::size_t best_edge = 0;
   for (std::size_t i = 0; i < n; ++i) {
+    // u = e, v = e rotated: unnormalised (the caliper tests only use signs), so the area is
+    // the product of the two spans over |e|^2; no square root per edge.
     const Vec2 e = polygon[next(i)] - polygon[i];
-    const double len = e.norm();
-    if (!(len > 0.0)) continue;
-    const Vec2 u = e / len;
+    const double len2 = e.squaredNorm();
+    if (!(len2 > 0.0)) continue;
+    const Vec2& u = e;
     const Vec2 v(-u.y(), u.x());
     const Vec2& o = polygon[i];
     if (i == 0) {
@@ -62,7 +64,7 @@ Rect2 min_area_rect(std::span<const Vec2> polygon) {
     while (guard++ < n && u.dot(polygon[next(l)] - polygon[l]) < 0.0) l = next(l);
     const double width = u.dot(polygon[r] - o) - u.dot(polygon[l] - o);
     const double height = v.dot(polygon[t] - o);
-    const double area = width * height;
+    const double area = width * height / len2;
     if (area < best_area) {
       best_area = area;
       best_edge = i;

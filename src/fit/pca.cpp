@@ -1,16 +1,16 @@
 #include "pca.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <cmath>
 
 #include "frame.hpp"
 
 namespace tightbvh::fit_detail {
 namespace {
 
-// Eigenvectors of a symmetric 3x3 matrix, sorted by decreasing eigenvalue, right-handed.
-Mat3 principal_axes(const Mat3& covariance) {
-  if (!covariance.allFinite() || covariance.cwiseAbs().maxCoeff() == 0.0) return Mat3::Identity();
-  Eigen::SelfAdjointEigenSolver<Mat3> solver(covariance);  // iterative (QL): accurate for close eigenvalues
+// Iterative (QL) solver: slower, accurate for any spectrum. Fallback of principal_axes.
+Mat3 principal_axes_iterative(const Mat3& covariance) {
+  Eigen::SelfAdjointEigenSolver<Mat3> solver(covariance);
   if (solver.info() != Eigen::Success) return Mat3::Identity();
   const Mat3 v = solver.eigenvectors();  // increasing eigenvalues
   Mat3 axes;
@@ -22,49 +22,94 @@ Mat3 principal_axes(const Mat3& covariance) {
 
 }  // namespace
 
-Mat3 pca_vertex_axes(std::span<const Vec3> points, const Vec3& origin) {
-  Vec3 mean = Vec3::Zero();
-  for (const Vec3& p : points) mean += p - origin;
-  mean /= static_cast<double>(points.size());
-  Mat3 c = Mat3::Zero();
-  for (const Vec3& p : points) {
-    const Vec3 d = p - origin - mean;
-    c.noalias() += d * d.transpose();
+Mat3 principal_axes(const Mat3& covariance) {
+  if (!covariance.allFinite() || covariance.cwiseAbs().maxCoeff() == 0.0) return Mat3::Identity();
+  // Closed form (trigonometric roots + kernels by cross products): several times cheaper than
+  // QL iterations, and this runs once per tree node. Its eigenvector of the *most distinct*
+  // eigenvalue is the accurate one (the other two are only determined up to a rotation when
+  // their eigenvalues nearly tie), so the frame is rebuilt around that vector.
+  Eigen::SelfAdjointEigenSolver<Mat3> solver;
+  solver.computeDirect(covariance);
+  const Vec3 lambda = solver.eigenvalues();  // increasing
+  const Mat3 v = solver.eigenvectors();
+  if (!v.allFinite() || !lambda.allFinite()) return principal_axes_iterative(covariance);
+  // Sanity check of the closed form (it can lose accuracy when the spectrum spans many orders
+  // of magnitude): every column must be a unit eigenvector to ~1e-7 relative; else iterate.
+  const double scale = std::max(std::abs(lambda[0]), std::abs(lambda[2]));
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 r = covariance * v.col(i) - lambda[i] * v.col(i);
+    if (!(r.norm() <= 1e-7 * scale) || !(std::abs(v.col(i).squaredNorm() - 1.0) < 1e-9))
+      return principal_axes_iterative(covariance);
   }
-  return principal_axes(c / static_cast<double>(points.size()));
+  Mat3 axes;  // decreasing eigenvalues, right-handed
+  if (lambda[2] - lambda[1] >= lambda[1] - lambda[0]) {
+    // Largest eigenvalue is the most distinct: keep its vector, orthogonalise the middle one.
+    axes.col(0) = v.col(2);
+    axes.col(1) = v.col(1);
+    return orthonormalize(axes);
+  }
+  // Smallest eigenvalue is the most distinct (flat sets): keep the normal exactly.
+  const Vec3 n = v.col(0).normalized();
+  Vec3 a = v.col(2) - n.dot(v.col(2)) * n;
+  if (!(a.norm() > 1e-6)) return principal_axes_iterative(covariance);  // not after the residual check
+  a.normalize();
+  axes.col(0) = a;
+  axes.col(1) = n.cross(a);
+  axes.col(2) = n;
+  return axes;
+}
+
+Mat3 pca_vertex_axes(std::span<const Vec3> points, const Vec3& origin) {
+  // One pass: first and second moments relative to `origin` (a point near the set, so the
+  // subtraction of the mean's outer product loses no more than centring first would).
+  Vec3 sum = Vec3::Zero();
+  double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+  for (const Vec3& p : points) {
+    const Vec3 d = p - origin;
+    sum += d;
+    xx += d.x() * d.x(), xy += d.x() * d.y(), xz += d.x() * d.z();
+    yy += d.y() * d.y(), yz += d.y() * d.z(), zz += d.z() * d.z();
+  }
+  const double inv = 1.0 / static_cast<double>(points.size());
+  const Vec3 mean = sum * inv;
+  Mat3 c;
+  c << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+  return principal_axes(c * inv - mean * mean.transpose());
 }
 
 Mat3 pca_triangle_axes(std::span<const Vec3> corners, const Vec3& origin) {
   // For a triangle (p, q, r) of area A and centroid m, the integral over its area of x x^T is
   //   A/12 * (9 m m^T + p p^T + q q^T + r r^T)   (Gottschalk's thesis, eq. 3.5 ff.).
   // Covariance = (sum of those) / A_total - M M^T with M the area-weighted centroid.
-  // Accumulated relative to the mean triangle centroid so the subtraction stays accurate.
+  // One pass, relative to `origin` (a point near the set, see pca_vertex_axes).
   const std::size_t n = corners.size() / 3;
   if (n == 0) return pca_vertex_axes(corners, origin);
-  Vec3 centroid_mean = Vec3::Zero();
-  for (const Vec3& p : corners) centroid_mean += p - origin;
-  centroid_mean /= static_cast<double>(corners.size());
-  const Vec3 o = origin + centroid_mean;
-
   double total_area = 0.0;
   Vec3 moment = Vec3::Zero();
-  Mat3 second = Mat3::Zero();
+  double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
   for (std::size_t t = 0; t < n; ++t) {
-    const Vec3 p = corners[3 * t] - o;
-    const Vec3 q = corners[3 * t + 1] - o;
-    const Vec3 r = corners[3 * t + 2] - o;
+    const Vec3 p = corners[3 * t] - origin;
+    const Vec3 q = corners[3 * t + 1] - origin;
+    const Vec3 r = corners[3 * t + 2] - origin;
     const double area = 0.5 * (q - p).cross(r - p).norm();
     if (!(area > 0.0)) continue;
-    const Vec3 m = (p + q + r) / 3.0;
+    const Vec3 s = p + q + r;  // 3 m
     total_area += area;
-    moment += area * m;
-    second.noalias() += (area / 12.0) * (9.0 * m * m.transpose() + p * p.transpose() + q * q.transpose() +
-                                         r * r.transpose());
+    moment += area * s;
+    // 9 m m^T = s s^T
+    const double w = area / 12.0;
+    xx += w * (s.x() * s.x() + p.x() * p.x() + q.x() * q.x() + r.x() * r.x());
+    xy += w * (s.x() * s.y() + p.x() * p.y() + q.x() * q.y() + r.x() * r.y());
+    xz += w * (s.x() * s.z() + p.x() * p.z() + q.x() * q.z() + r.x() * r.z());
+    yy += w * (s.y() * s.y() + p.y() * p.y() + q.y() * q.y() + r.y() * r.y());
+    yz += w * (s.y() * s.z() + p.y() * p.z() + q.y() * q.z() + r.y() * r.z());
+    zz += w * (s.z() * s.z() + p.z() * p.z() + q.z() * q.z() + r.z() * r.z());
   }
   if (!(total_area > 0.0)) return pca_vertex_axes(corners, origin);
-  const Vec3 mean = moment / total_area;
-  const Mat3 c = second / total_area - mean * mean.transpose();
-  return principal_axes(c);
+  const Vec3 mean = moment / (3.0 * total_area);
+  Mat3 c;
+  c << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+  return principal_axes(c / total_area - mean * mean.transpose());
 }
 
 }  // namespace tightbvh::fit_detail

@@ -6,6 +6,11 @@
 
 namespace tightbvh::fit_detail {
 
+// Eigenvectors of a symmetric 3x3 matrix as an orthonormal right-handed frame, columns sorted
+// by decreasing eigenvalue (the identity for a zero or non-finite matrix). With repeated
+// eigenvalues any orthonormal basis of the eigenspace is returned.
+[[nodiscard]] Mat3 principal_axes(const Mat3& covariance);
+
 // FCL-style: eigenvectors of the unweighted covariance of the points (triangle corners).
 [[nodiscard]] Mat3 pca_vertex_axes(std::span<const Vec3> points, const Vec3& origin);
 

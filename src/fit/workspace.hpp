@@ -17,6 +17,7 @@ struct FitWorkspace::Scratch {
   fit_detail::BoptScratch bopt;
   fit_detail::ExactScratch exact;
   std::vector<Vec2> polygon;
+  std::vector<Vec3> distinct;  // small sets: the distinct input points (no hull computed)
   // approx-snap: the hull of the snapped points
   std::vector<Vec3> snapped;
   std::vector<std::array<std::int64_t, 3>> cells;

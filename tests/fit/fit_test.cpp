@@ -312,6 +312,52 @@ TEST(Fit, RejectsNonFinite) {
   EXPECT_THROW((void)grid_for_epsilon(std::numeric_limits<double>::quiet_NaN()), InputError);
 }
 
+// Sets of at most 32 distinct points skip the 3D hull in approx and diameter (Bopt projects every
+// point, src/fit/fit.cpp kSmallSet). The same set repeated to more than 128 input points takes
+// the hull path: both must give the same box volume, contain the points, and approx must stay
+// within (1 + eps) of exact. Also tiny tree-node-like sets: a few triangles of a mesh, with
+// repeated corners, far from the origin; and nearly flat small sets (these keep the hull path).
+TEST(Fit, SmallSetsWithoutHullMatchTheHullPath) {
+  std::mt19937_64 rng(31);
+  std::vector<std::vector<Vec3>> sets;
+  for (std::size_t n : {4, 5, 6, 8, 12, 17, 24, 32}) {
+    sets.push_back(test::gaussian_points(n, 100 + n));
+    auto cube = uniform_cube(n, 200 + n);
+    const Mat3 r = test::random_rotation(rng);
+    for (auto& p : cube) p = r * p + Vec3(1e5, -2e5, 3e5);
+    sets.push_back(cube);
+  }
+  sets.push_back({{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}});  // regular tetrahedron
+  const auto corners = test::mesh_corners("meshes/elephant.off");
+  ASSERT_FALSE(corners.empty());
+  for (std::size_t first : {0, 300, 3000, 9000})
+    for (std::size_t triangles : {2, 3, 5, 10})
+      sets.emplace_back(corners.begin() + static_cast<std::ptrdiff_t>(first),
+                        corners.begin() + static_cast<std::ptrdiff_t>(first + 3 * triangles));
+  auto flat = uniform_cube(20, 9);
+  for (auto& p : flat) p.z() *= 1e-9;
+  sets.push_back(flat);
+  FitWorkspace ws;
+  for (std::size_t i = 0; i < sets.size(); ++i) {
+    const auto& s = sets[i];
+    std::vector<Vec3> repeated;
+    while (repeated.size() <= 128) repeated.insert(repeated.end(), s.begin(), s.end());
+    const double exact = volume_of(s, FitMethod::exact);
+    for (FitMethod m : {FitMethod::approx, FitMethod::diameter}) {
+      const Obb small = fit_points(s, {.method = m}, ws);
+      EXPECT_TRUE(valid_box_containing(small, s)) << to_string(m) << " set " << i;
+      const Obb hull = fit_points(repeated, {.method = m}, ws);
+      EXPECT_NEAR(small.volume(), hull.volume(), 1e-9 * hull.volume() + 1e-300) << to_string(m) << " set " << i;
+      EXPECT_LE(exact, small.volume() * (1 + 1e-9) + 1e-300) << to_string(m) << " set " << i;
+    }
+    for (const double eps : {0.1, 0.02})
+      EXPECT_LE(volume_of(s, FitMethod::approx, {.epsilon = eps}), (1.0 + eps) * exact + 1e-300)
+          << "set " << i << " eps " << eps;
+    if (s.size() % 3 == 0)
+      EXPECT_TRUE(valid_box_containing(fit_triangles(s, {.method = FitMethod::approx}, ws), s)) << "set " << i;
+  }
+}
+
 TEST(Fit, ApproxImprovesWithGridRadius) {
   const auto points = sphere_points(100, 3);
   const double exact = volume_of(points, FitMethod::exact);

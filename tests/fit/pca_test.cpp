@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "../../src/fit/pca.hpp"
 #include "test_util.hpp"
 
 namespace tightbvh {
@@ -118,6 +119,64 @@ TEST(FitSimple, WorkspaceReuseGivesSameBoxes) {
       EXPECT_EQ(a.volume(), b.volume());
     }
   }
+}
+
+// principal_axes (closed form with an iterative fallback): every column an eigenvector, the
+// frame orthonormal and right-handed, eigenvalues decreasing; also for repeated eigenvalues
+// (isotropic sets such as a cube's corners or a regular tetrahedron, axially symmetric
+// ones), near-ties and spectra spanning many orders of magnitude, in random orientations.
+::testing::AssertionResult is_eigenframe(const Mat3& c, const Mat3& axes) {
+  const double ortho = (axes.transpose() * axes - Mat3::Identity()).cwiseAbs().maxCoeff();
+  if (!axes.allFinite() || ortho > 1e-12) return ::testing::AssertionFailure() << "not orthonormal: " << ortho;
+  if (!(axes.determinant() > 0.0)) return ::testing::AssertionFailure() << "left-handed";
+  const double scale = c.cwiseAbs().maxCoeff();  // not norm(): squares of 1e-300 underflow
+  double previous = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 a = axes.col(i);
+    const double lambda = a.dot(c * a);
+    const double residual = (c * a - lambda * a).norm();
+    if (residual > 1e-9 * scale)
+      return ::testing::AssertionFailure() << "column " << i << " residual " << residual / scale;
+    if (lambda > previous + 1e-12 * scale)
+      return ::testing::AssertionFailure() << "eigenvalues not decreasing: " << previous << " then " << lambda;
+    previous = lambda;
+  }
+  return ::testing::AssertionSuccess();
+}
+
+TEST(FitSimple, PrincipalAxesAreAnEigenframeForRepeatedAndNearlyRepeatedEigenvalues) {
+  std::mt19937_64 rng(5);
+  const std::vector<Vec3> spectra{{1, 1, 1},         {2, 1, 1},        {1, 1, 0},          {1, 0, 0},
+                                  {1, 1, 1e-12},     {1, 1 + 1e-9, 1}, {1, 1 - 1e-14, 0.5}, {1e6, 1, 1e-6},
+                                  {3, 2, 1},         {1e-300, 1e-300, 2e-300}, {5, 5, 5 + 1e-13}};
+  for (const Vec3& d : spectra)
+    for (int trial = 0; trial < 50; ++trial) {
+      const Mat3 r = trial == 0 ? Mat3::Identity() : test::random_rotation(rng);
+      const Mat3 c = r * d.asDiagonal() * r.transpose();
+      EXPECT_TRUE(is_eigenframe(c, fit_detail::principal_axes(c))) << d.transpose() << " trial " << trial;
+    }
+  // Point sets with isotropic covariance: a cube's corners and a regular tetrahedron, rotated.
+  const std::vector<Vec3> cube{{-1, -1, -1}, {1, -1, -1}, {-1, 1, -1}, {1, 1, -1},
+                               {-1, -1, 1},  {1, -1, 1},  {-1, 1, 1},  {1, 1, 1}};
+  const std::vector<Vec3> tetra{{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+  for (const auto* set : {&cube, &tetra})
+    for (int trial = 0; trial < 20; ++trial) {
+      const Mat3 r = test::random_rotation(rng);
+      std::vector<Vec3> points;
+      for (const Vec3& p : *set) points.push_back(r * p + Vec3(3, -2, 1e3));
+      for (FitMethod m : {FitMethod::pca, FitMethod::pca_vertex}) {
+        const Obb box = fit_points(points, {.method = m});
+        EXPECT_TRUE(valid_box_containing(box, points)) << to_string(m);
+      }
+      // The tetrahedron's faces as triangles (area-weighted covariance, also isotropic).
+      if (set == &tetra) {
+        std::vector<Vec3> corners;
+        for (int skip = 0; skip < 4; ++skip)
+          for (int k = 0; k < 4; ++k)
+            if (k != skip) corners.push_back(points[k]);
+        EXPECT_TRUE(valid_box_containing(fit_triangles(corners, {.method = FitMethod::pca}), corners));
+      }
+    }
 }
 
 TEST(FitNames, RoundTrip) {

@@ -2,46 +2,28 @@
 //   [--all-pairs] [--fitter F] [--json]: builds both trees and runs one query with A at the
 // identity and B at the given pose (B's transform in A's frame, rotation row-major).
 #include <chrono>
-#include <cmath>
 #include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
+#include "tightbvh/pose_text.hpp"
 
 namespace tightbvh::cli {
 namespace {
 
-// Twelve finite numbers, a proper rotation (orthonormal within 1e-6, determinant +1).
-Pose parse_pose(const std::string& text) {
-  std::vector<double> numbers;
-  std::istringstream in(text);
-  for (std::string token; in >> token;) {
-    const char* begin = token.c_str();
-    char* end = nullptr;
-    const double value = std::strtod(begin, &end);
-    if (end == begin || *end != '\0') throw InputError("--pose: '" + token + "' is not a number");
-    if (!std::isfinite(value)) throw InputError("--pose: '" + token + "' is not finite");
-    numbers.push_back(value);
+// The library's parser, with the option named in its messages.
+Pose parse_pose_option(const std::string& text) {
+  try {
+    return parse_pose(text);
+  } catch (const InputError& e) {
+    throw InputError(std::string("--pose: ") + e.what());
   }
-  if (numbers.size() != 12)
-    throw InputError("--pose: expected 12 numbers (r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz), got " +
-                     std::to_string(numbers.size()));
-  Pose pose;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) pose.rotation(r, c) = numbers[3 * r + c];
-  pose.translation = Vec3(numbers[9], numbers[10], numbers[11]);
-  const double error = (pose.rotation.transpose() * pose.rotation - Mat3::Identity()).cwiseAbs().maxCoeff();
-  if (error > 1e-6)
-    throw InputError("--pose: the rotation is not orthonormal (|R^T R - I| = " + std::to_string(error) + ")");
-  if (pose.rotation.determinant() < 0) throw InputError("--pose: the rotation is a reflection (determinant -1)");
-  return pose;
 }
 
 }  // namespace
@@ -66,7 +48,7 @@ void add_collide_command(CLI::App& app) {
   cmd->add_option("--threads", args->threads, "build threads (0: all cores)")->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON instead of text");
   cmd->callback([args] {
-    const Pose pose_b = parse_pose(args->pose);
+    const Pose pose_b = parse_pose_option(args->pose);
     const auto fitter = parse_fitter(args->fitter);
     if (!fitter) throw InputError("unknown fitter '" + args->fitter + "'");
     const Mesh a = load_mesh(args->mesh_a);

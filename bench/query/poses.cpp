@@ -3,9 +3,10 @@
 #include <cmath>
 #include <fstream>
 #include <random>
-#include <sstream>
 
 #include <Eigen/Geometry>
+
+#include "tightbvh/pose_text.hpp"
 
 namespace tightbvh::bench {
 
@@ -113,38 +114,12 @@ std::vector<Pose> read_poses(const std::filesystem::path& path) {
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
-    std::istringstream fields(line);
-    std::vector<double> v;
-    std::string token;
-    const auto where = [&] { return path.string() + ":" + std::to_string(number) + ": "; };
-    while (fields >> token) {
-      std::size_t used = 0;
-      double x = 0;
-      try {
-        x = std::stod(token, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != token.size()) throw InputError(where() + "not a number: '" + token + "'");
-      if (!std::isfinite(x)) throw InputError(where() + "not finite: '" + token + "'");
-      v.push_back(x);
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;  // blank or comment only
+    try {
+      poses.push_back(parse_pose(line));
+    } catch (const InputError& e) {
+      throw InputError(path.string() + ":" + std::to_string(number) + ": " + e.what());
     }
-    if (v.empty()) continue;
-    if (v.size() != 12)
-      throw InputError(where() + "expected 12 numbers (r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz), got " +
-                       std::to_string(v.size()));
-    Pose p;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) p.rotation(r, c) = v[3 * r + c];
-    p.translation = Vec3(v[9], v[10], v[11]);
-    const double err = (p.rotation.transpose() * p.rotation - Mat3::Identity()).cwiseAbs().maxCoeff();
-    if (err > 1e-6) {
-      std::ostringstream msg;
-      msg << where() << "rotation is not orthonormal (max |R^T R - I| = " << err << ")";
-      throw InputError(msg.str());
-    }
-    if (p.rotation.determinant() < 0) throw InputError(where() + "rotation has determinant -1 (a reflection)");
-    poses.push_back(p);
   }
   if (poses.empty()) throw InputError(path.string() + ": no poses");
   return poses;

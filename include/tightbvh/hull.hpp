@@ -59,6 +59,15 @@ class HullWorkspace {
 [[nodiscard]] ConvexHull3 convex_hull(std::span<const Vec3> points);
 void convex_hull(std::span<const Vec3> points, ConvexHull3& out, HullWorkspace& workspace);
 
+// The point of `points` farthest from the line through `through` with unit direction `dir`
+// (the first of equals): its index and squared distance. Probes the affine dimension of a set.
+struct FarthestFromLine {
+  std::size_t index = 0;
+  double squared_distance = -1.0;
+};
+[[nodiscard]] FarthestFromLine farthest_from_line(std::span<const Vec3> points, const Vec3& through,
+                                                  const Vec3& dir);
+
 // Andrew's monotone chain: reorders the first entries of `points` into the convex hull in
 // counter-clockwise order, without collinear points, and returns their number (0 for an
 // empty input, 1 when all points coincide, 2 for collinear points).

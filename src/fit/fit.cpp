@@ -8,6 +8,7 @@
 #include "fitters.hpp"
 #include "frame.hpp"
 #include "pca.hpp"
+#include "tightbvh/hull.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/min_rect.hpp"
 #include "workspace.hpp"
@@ -86,13 +87,7 @@ bool clearly_solid(std::span<const Vec3> p) {
   const double length = d.norm();
   if (!(length > 1e-9 * bounds.center().cwiseAbs().maxCoeff()) || length == 0.0) return false;
   const Vec3 dir = d / length;
-  std::size_t ic = ia;
-  double best = -1.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const Vec3 e = p[i] - p[ia];
-    const double dist = (e - e.dot(dir) * dir).squaredNorm();
-    if (dist > best) best = dist, ic = i;
-  }
+  const auto [ic, best] = farthest_from_line(p, p[ia], dir);
   if (!(std::sqrt(best) > 1e-6 * length)) return false;
   const Vec3 normal = d.cross(p[ic] - p[ia]).normalized();
   double height = 0.0;

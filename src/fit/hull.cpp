@@ -304,13 +304,7 @@ void convex_hull(std::span<const Vec3> points, ConvexHull3& out, HullWorkspace& 
     return;
   }
   const Vec3 dir = (points[ib] - points[ia]) / length;
-  std::size_t ic = ia;
-  double best = -1.0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Vec3 d = points[i] - points[ia];
-    const double dist = (d - d.dot(dir) * dir).squaredNorm();
-    if (dist > best) best = dist, ic = i;
-  }
+  const auto [ic, best] = farthest_from_line(points, points[ia], dir);
   if (!(std::sqrt(best) > tiny * length)) {
     // Collinear: the two extreme points along the line.
     std::size_t lo = ia, hi = ia;
@@ -345,6 +339,16 @@ void convex_hull(std::span<const Vec3> points, ConvexHull3& out, HullWorkspace& 
   }
   // Qhull could not build a solid hull: the set is flat within its precision.
   planar_hull(points, origin, normal, s, out);
+}
+
+FarthestFromLine farthest_from_line(std::span<const Vec3> points, const Vec3& through, const Vec3& dir) {
+  FarthestFromLine out;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3 d = points[i] - through;
+    const double dist = (d - d.dot(dir) * dir).squaredNorm();
+    if (dist > out.squared_distance) out = {i, dist};
+  }
+  return out;
 }
 
 std::size_t convex_hull_2d(std::span<Vec2> points) {

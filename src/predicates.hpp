@@ -145,6 +145,17 @@ inline void add_triple_product(Expansion<N>& out, double s, double a, double b, 
 }
 
 // ---------------------------------------------------------------- orient3d
+// Adds det[u, v, w] (columns) to `out` exactly: the six triple products of the Leibniz formula.
+template <int N>
+inline void add_determinant(Expansion<N>& out, const Vec3& u, const Vec3& v, const Vec3& w) {
+  add_triple_product(out, 1, u.x(), v.y(), w.z());
+  add_triple_product(out, -1, u.x(), v.z(), w.y());
+  add_triple_product(out, -1, u.y(), v.x(), w.z());
+  add_triple_product(out, 1, u.y(), v.z(), w.x());
+  add_triple_product(out, 1, u.z(), v.x(), w.y());
+  add_triple_product(out, -1, u.z(), v.y(), w.x());
+}
+
 // Sign of det[b - a, c - a, d - a] = ((b - a) x (c - a)) . (d - a): > 0 iff d is on the side of
 // plane (a, b, c) that (b - a) x (c - a) points to.
 [[nodiscard]] inline int orient3d_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
@@ -161,12 +172,7 @@ inline void add_triple_product(Expansion<N>& out, double s, double a, double b, 
     exact = exact_difference(b[k], a[k], u[k]) && exact_difference(c[k], a[k], v[k]) && exact_difference(d[k], a[k], w[k]);
   if (exact) {
     Expansion<6 * 4 + 1> e;
-    add_triple_product(e, 1, u.x(), v.y(), w.z());
-    add_triple_product(e, -1, u.x(), v.z(), w.y());
-    add_triple_product(e, -1, u.y(), v.x(), w.z());
-    add_triple_product(e, 1, u.y(), v.z(), w.x());
-    add_triple_product(e, 1, u.z(), v.x(), w.y());
-    add_triple_product(e, -1, u.z(), v.y(), w.x());
+    add_determinant(e, u, v, w);
     return e.sign();
   }
   // General case: det[b - a, c - a, d - a] = [b, c, d] - [a, c, d] + [a, b, d] - [a, b, c], with
@@ -208,12 +214,7 @@ inline void add_triple_product(Expansion<N>& out, double s, double a, double b, 
     two_sum(d[k], -a[k], w[k], wt[k]);
   }
   Expansion<25> e;  // det[u, v, w] exactly
-  add_triple_product(e, 1, u.x(), v.y(), w.z());
-  add_triple_product(e, -1, u.x(), v.z(), w.y());
-  add_triple_product(e, -1, u.y(), v.x(), w.z());
-  add_triple_product(e, 1, u.y(), v.z(), w.x());
-  add_triple_product(e, 1, u.z(), v.x(), w.y());
-  add_triple_product(e, -1, u.z(), v.y(), w.x());
+  add_determinant(e, u, v, w);
   if (ut == Vec3::Zero() && vt == Vec3::Zero() && wt == Vec3::Zero()) return e.sign();  // exact differences
   double estimate = 0.0;
   for (int i = 0; i < e.n; ++i) estimate += e.c[i];

@@ -20,8 +20,9 @@ namespace tightbvh::fit_detail {
 [[nodiscard]] const std::vector<std::array<int, 3>>& primitive_grid(int k);
 
 // GridSearchMinVolBbx (Section 6.4, Fig. 6.3): Bopt(S, {v}) for every primitive direction v
-// of Grid(B*(S)) (B*(S) = lemma_box, the box of Lemma 6.3.3 that Section 6.4 prescribes) with L-inf norm <= k, keep the smallest; then (if `improve`) the local
-// improvement of Section 6.5.
+// of Grid(B*(S)) (B*(S) = lemma_box, the box of Lemma 6.3.3 that Section 6.4 prescribes) with
+// L-inf norm <= k, keep the smallest; then (if `improve`) the local improvement of Section 6.5
+// from the four best and a pattern search over the best box's direction.
 [[nodiscard]] AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool improve,
                                   BoptScratch& scratch);
 

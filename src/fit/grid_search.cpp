@@ -1,5 +1,7 @@
 // GridSearchMinVolBbx, Barequet & Har-Peled Section 6.4 (Fig. 6.3), with the local
-// improvement step of Section 6.5 (the "(Improved)" rows of Tables 6.1 and 6.2).
+// improvement step of Section 6.5 (the "(Improved)" rows of Tables 6.1 and 6.2) and a final
+// tilt search of the best box's orientation (refine_direction).
+#include <cmath>
 #include <limits>
 #include <mutex>
 #include <numeric>
@@ -29,6 +31,46 @@ const std::vector<std::array<int, 3>>& primitive_grid(int k) {
   });
   return tables[k];
 }
+
+namespace {
+
+// Tilt steps of refine_direction, in radians: 0.05, 0.025, 0.0125. Measured on the 133 corpus
+// meshes against min(CGAL, exact): ending at 1e-3 instead costs a third more Bopt calls and
+// changes no worst case (approx <= 1.0021 x either way); ending at 0.02 leaves 3torus at 1.006.
+constexpr double kFirstTilt = 0.05;
+constexpr double kLastTilt = 0.01;
+
+// Pattern search (Hooke & Jeeves style) over the box's orientation: tilt each axis by +-theta
+// towards each other axis and re-solve Bopt along the tilted axis; take the first smaller box
+// (re-running the axis improvement from it), otherwise halve theta. The axis improvement of
+// Section 6.5 stops wherever no single axis re-solve helps; on symmetric shapes that is a ridge
+// 2% above the optimum (bull and 3torus of the CGAL corpus with k = 2), which small tilts escape.
+// Tilting only the Bopt axis is cheaper but gets stuck on 3torus for some B*(S).
+AxisBox refine_direction(const HullGeometry& g, AxisBox box, BoptScratch& scratch) {
+  double volume = box.volume();
+  for (double theta = kFirstTilt; theta >= kLastTilt;) {
+    const double c = std::cos(theta), s = std::sin(theta);
+    bool moved = false;
+    for (int axis = 0; axis < 3 && !moved; ++axis)
+      for (int towards = 0; towards < 3 && !moved; ++towards) {
+        if (towards == axis) continue;
+        for (const double sign : {1.0, -1.0}) {
+          const Vec3 v = c * box.axes.col(axis) + sign * s * box.axes.col(towards);
+          const AxisBox candidate = bopt(g, v, scratch);
+          if (candidate.volume() < volume) {
+            box = improve(g, candidate, scratch, 1e-6, 16, true);
+            volume = box.volume();
+            moved = true;
+            break;
+          }
+        }
+      }
+    if (!moved) theta *= 0.5;
+  }
+  return box;
+}
+
+}  // namespace
 
 AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool improve_step, BoptScratch& scratch) {
   // Grid(B*(S)) is spanned by the box's edge vectors b_j = extent_j * axis_j.
@@ -70,7 +112,7 @@ AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool imp
     const AxisBox improved = improve(g, top[i], scratch, 1e-6, 16, top_bopt[i]);
     if (improved.volume() < best_volume) best_volume = improved.volume(), best = improved;
   }
-  return best;
+  return refine_direction(g, best, scratch);
 }
 
 }  // namespace tightbvh::fit_detail

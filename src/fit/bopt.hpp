@@ -46,6 +46,7 @@ struct BoptScratch {
   std::uint32_t hint_max = 0;
   std::uint32_t hint_min = 0;
   std::size_t calls = 0;
+  std::vector<std::pair<double, std::uint32_t>> grid_order;  // grid_search: (bound, direction)
 };
 
 // Bopt(S, {v}) for the solid hull `g` (v need not be unit; a zero v gives an infinite box).

@@ -121,9 +121,19 @@ AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool imp
   top_volume.fill(std::numeric_limits<double>::infinity());
   top_volume[0] = bstar.volume();
   const VolumeBound bound(g, bstar);
-  for (const auto& c : primitive_grid(k)) {
-    const Vec3 v = basis * Vec3(c[0], c[1], c[2]);
-    if (!(v.squaredNorm() > 0.0) || bound.excludes(v, top_volume[kStarts - 1])) continue;
+  // Directions in increasing order of their bound: the best boxes come early, and once a bound
+  // reaches the fourth-best volume so do all later ones.
+  const auto& grid = primitive_grid(k);
+  auto& order = scratch.grid_order;
+  order.clear();
+  for (std::uint32_t i = 0; i < grid.size(); ++i) {
+    const Vec3 v = basis * Vec3(grid[i][0], grid[i][1], grid[i][2]);
+    if (v.squaredNorm() > 0.0) order.emplace_back(bound(v), i);
+  }
+  std::sort(order.begin(), order.end());
+  for (const auto& [lower, i] : order) {
+    if (lower * (1.0 - 1e-9) >= top_volume[kStarts - 1]) break;
+    const Vec3 v = basis * Vec3(grid[i][0], grid[i][1], grid[i][2]);
     const AxisBox box = bopt(g, v, scratch);
     double volume = box.volume();
     if (!(volume < top_volume[kStarts - 1])) continue;

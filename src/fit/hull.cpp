@@ -86,6 +86,14 @@ struct HullWorkspace::State {
   std::vector<std::uint32_t> horizon_from;  // by point: the horizon edge leaving it
   std::vector<std::uint32_t> cycle;         // horizon edges in order
   std::vector<std::uint32_t> new_faces;
+  // Removal of vertices that are not strictly extreme
+  std::vector<std::uint32_t> corner_face;  // by point: a live face with that vertex
+  std::vector<std::uint32_t> sharp;        // by point: incident edges between faces on two planes
+  std::vector<std::uint32_t> doomed;       // vertices to remove
+  std::vector<std::uint32_t> fan, link;    // faces around the vertex, their far vertices in order
+  std::vector<std::uint32_t> polygon;      // one planar polygon to triangulate
+  std::vector<std::array<std::uint32_t, 2>> open_edges;  // directed edge -> (face, slot) to match
+  std::vector<std::uint32_t> open_faces;
   // Conversion to ConvexHull3
   std::vector<std::uint32_t> vertex_of;    // by point: output vertex, kNone when not one
   std::vector<std::uint32_t> face_index;   // by face slot: output face
@@ -119,6 +127,36 @@ class Quickhull {
  public:
   // `extent`: the extents of a box holding all the points.
   Quickhull(std::span<const Vec3> points, const Vec3& extent, State& s) : p_(points), s_(s), extent_(extent) {}
+
+  // The farthest-point picks can leave a vertex inside a flat facet or inside an edge of the
+  // hull (ties on coplanar and collinear sets). Removes those vertices by triangulating the
+  // planar polygon(s) around each (their links); false when that fails (never expected).
+  bool remove_non_extreme_vertices() {
+    if (s_.corner_face.size() < p_.size()) {
+      s_.corner_face.resize(p_.size());
+      s_.sharp.resize(p_.size(), 0);
+    }
+    s_.doomed.clear();
+    for (std::uint32_t f = 0; f < s_.faces.size(); ++f)
+      if (s_.faces[f].alive)
+        for (std::uint32_t v : s_.faces[f].vertex) s_.corner_face[v] = f, s_.sharp[v] = 0;
+    for (std::uint32_t f = 0; f < s_.faces.size(); ++f) {
+      const Face& face = s_.faces[f];
+      if (!face.alive) continue;
+      for (std::uint32_t k = 0; k < 3; ++k)
+        if (face.adjacent[k] > f && !coplanar(f, face.adjacent[k]))
+          ++s_.sharp[face.vertex[(k + 1) % 3]], ++s_.sharp[face.vertex[(k + 2) % 3]];
+    }
+    for (std::uint32_t f = 0; f < s_.faces.size(); ++f) {
+      if (!s_.faces[f].alive) continue;
+      for (std::uint32_t v : s_.faces[f].vertex)
+        if (s_.sharp[v] < 3 && s_.corner_face[v] == f) s_.doomed.push_back(v);  // once per vertex
+    }
+    // Removing a vertex keeps the other vertices' sharp edge counts (see remove_vertex).
+    for (std::uint32_t v : s_.doomed)
+      if (!remove_vertex(v)) return false;
+    return true;
+  }
 
   void run(const std::array<std::uint32_t, 4>& simplex) {
     s_.faces.clear();
@@ -160,6 +198,151 @@ class Quickhull {
     }
     s_.faces.emplace_back(p_, a, b, c);
     return static_cast<std::uint32_t>(s_.faces.size() - 1);
+  }
+
+  // Faces f and g (neighbours) lie in one plane, exactly.
+  bool coplanar(std::uint32_t f, std::uint32_t g) const {
+    const Face &a = s_.faces[f], &b = s_.faces[g];
+    if (a.plane_id == b.plane_id) return true;
+    for (std::uint32_t k = 0; k < 3; ++k)
+      if (b.adjacent[k] == f) return a.plane.sign(p_[b.vertex[k]]) == 0;
+    return false;
+  }
+
+  // Removes vertex v, which has fewer than three sharp edges (between faces on two planes).
+  // With none, v lies inside a flat facet: its link is a planar polygon, triangulated anew.
+  // With two, both lie on the line where the two planes meet and v inside the edge between its
+  // two neighbours u, w on that line: the link splits into one polygon per plane, each closed
+  // by the new edge u-w (sharp, so u's and w's counts stay). The new faces keep the plane ids.
+  bool remove_vertex(std::uint32_t v) {
+    // The fan around v, counter-clockwise seen from outside: fan[i] = (v, link[i], link[i + 1]).
+    s_.fan.clear();
+    s_.link.clear();
+    std::uint32_t f = s_.corner_face[v];
+    do {
+      const Face& face = s_.faces[f];
+      const std::uint32_t k = face.vertex[0] == v ? 0 : face.vertex[1] == v ? 1 : 2;
+      s_.fan.push_back(f);
+      s_.link.push_back(face.vertex[(k + 1) % 3]);
+      f = face.adjacent[(k + 1) % 3];  // across (link[i + 1], v)
+      if (s_.fan.size() > s_.faces.size()) return false;
+    } while (f != s_.fan[0]);
+    const std::size_t m = s_.fan.size();
+    // Sharp edges (v, link[i]) between fan[i - 1] and fan[i].
+    std::uint32_t sharp_at[2] = {0, 0};
+    int sharp_count = 0;
+    for (std::size_t i = 0; i < m; ++i)
+      if (!coplanar(s_.fan[(i + m - 1) % m], s_.fan[i])) {
+        if (sharp_count == 2) return false;
+        sharp_at[sharp_count++] = static_cast<std::uint32_t>(i);
+      }
+    if (sharp_count == 1) return false;
+    s_.open_edges.clear();
+    s_.open_faces.clear();
+    if (sharp_count == 0) {
+      s_.polygon.assign(s_.link.begin(), s_.link.end());
+      if (!triangulate(s_.fan[0])) return false;
+    } else {
+      for (int half = 0; half < 2; ++half) {
+        const std::uint32_t from = sharp_at[half], to = sharp_at[1 - half];
+        s_.polygon.clear();
+        for (std::uint32_t i = from; i != to; i = static_cast<std::uint32_t>((i + 1) % m)) s_.polygon.push_back(s_.link[i]);
+        s_.polygon.push_back(s_.link[to]);
+        if (!triangulate(s_.fan[from])) return false;
+      }
+    }
+    // Link the new faces: to the outer faces across the old link edges, and to each other.
+    for (std::size_t i = 0; i < m; ++i) {
+      const Face& old = s_.faces[s_.fan[i]];
+      const std::uint32_t k = old.vertex[0] == v ? 0 : old.vertex[1] == v ? 1 : 2;
+      const std::uint32_t outer = old.adjacent[k];
+      const std::uint32_t a = s_.link[i], b = s_.link[(i + 1) % m];
+      if (!attach(a, b, outer)) return false;
+    }
+    for (std::size_t i = 0; i < s_.open_edges.size(); ++i) {
+      const auto [face, slot] = s_.open_edges[i];
+      if (s_.faces[face].adjacent[slot] != kNone) continue;
+      const Face& mine = s_.faces[face];
+      const std::uint32_t a = mine.vertex[(slot + 1) % 3], b = mine.vertex[(slot + 2) % 3];
+      bool found = false;
+      for (std::uint32_t g : s_.open_faces) {
+        const std::uint32_t other = slot_of_edge(s_.faces[g], b, a);
+        if (g == face || other == kNone) continue;
+        s_.faces[face].adjacent[slot] = g;
+        s_.faces[g].adjacent[other] = face;
+        found = true;
+        break;
+      }
+      if (!found) return false;
+    }
+    for (std::uint32_t old : s_.fan) {
+      s_.faces[old].alive = false;
+      s_.free_faces.push_back(old);
+    }
+    return true;
+  }
+
+  // The new face holding directed edge a -> b takes `outer` as its neighbour there.
+  bool attach(std::uint32_t a, std::uint32_t b, std::uint32_t outer) {
+    for (std::uint32_t g : s_.open_faces) {
+      const std::uint32_t k = slot_of_edge(s_.faces[g], a, b);
+      if (k == kNone) continue;
+      s_.faces[g].adjacent[k] = outer;
+      Face& o = s_.faces[outer];
+      const std::uint32_t back = slot_of_edge(o, b, a);
+      if (back == kNone) return false;
+      o.adjacent[back] = g;
+      return true;
+    }
+    return false;
+  }
+
+  // Ear clipping of s.polygon (counter-clockwise seen from outside, in the plane of face
+  // `plane_face`), with exact orientations in the projection that drops the plane normal's
+  // largest coordinate. New faces go to s.open_faces with all three edges open.
+  bool triangulate(std::uint32_t plane_face) {
+    const Face& reference = s_.faces[plane_face];
+    const std::uint32_t plane_id = reference.plane_id;
+    int drop = 0;
+    reference.plane.normal.cwiseAbs().maxCoeff(&drop);
+    const int x = (drop + 1) % 3, y = (drop + 2) % 3;
+    const auto orient = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+      const Vec3 &pa = p_[a], &pb = p_[b], &pc = p_[c];
+      return detail::orient2d(pa[x], pa[y], pb[x], pb[y], pc[x], pc[y]);
+    };
+    // The projection's orientation against the true one, from the reference face itself.
+    const int flip = orient(reference.vertex[0], reference.vertex[1], reference.vertex[2]);
+    if (flip == 0) return false;
+    auto& poly = s_.polygon;
+    while (poly.size() > 3) {
+      const std::size_t n = poly.size();
+      std::size_t ear = n;
+      for (std::size_t i = 0; i < n && ear == n; ++i) {
+        const std::uint32_t a = poly[(i + n - 1) % n], b = poly[i], c = poly[(i + 1) % n];
+        if (orient(a, b, c) * flip <= 0) continue;  // reflex or flat corner
+        bool empty = true;
+        for (std::size_t j = 0; j < n && empty; ++j) {
+          const std::uint32_t q = poly[j];
+          if (q == a || q == b || q == c) continue;
+          empty = !(orient(a, b, q) * flip >= 0 && orient(b, c, q) * flip >= 0 && orient(c, a, q) * flip >= 0);
+        }
+        if (empty) ear = i;
+      }
+      if (ear == n) return false;
+      add_triangle(poly[(ear + n - 1) % n], poly[ear], poly[(ear + 1) % n], plane_id);
+      poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(ear));
+    }
+    if (orient(poly[0], poly[1], poly[2]) * flip <= 0) return false;
+    add_triangle(poly[0], poly[1], poly[2], plane_id);
+    return true;
+  }
+
+  void add_triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t plane_id) {
+    const std::uint32_t f = new_face(a, b, c);
+    s_.faces[f].plane_id = plane_id;
+    s_.open_faces.push_back(f);
+    for (std::uint32_t k = 0; k < 3; ++k) s_.open_edges.push_back({f, k});
+    for (std::uint32_t v : {a, b, c}) s_.corner_face[v] = f;
   }
 
   // Ranks outside points: by distance, and among (nearly) equally far ones the lexicographically
@@ -608,7 +791,7 @@ void convex_hull(std::span<const Vec3> points, ConvexHull3& out, HullWorkspace& 
   for (std::size_t i = 0; i < points.size(); ++i) s.candidates[i] = static_cast<std::uint32_t>(i);
   Quickhull hull(points, ext, s);
   hull.run(simplex);
-  if (!convert(points, s, out)) {
+  if (!hull.remove_non_extreme_vertices() || !convert(points, s, out)) {
     // Some vertices lie inside a flat facet or an edge of the hull (ties for the farthest point
     // on coplanar sets): rebuild from the strictly extreme vertices only, whose hull is the same
     // polytope and has no other vertices.

@@ -292,6 +292,16 @@ std::vector<std::vector<Vec3>> degenerate_sets() {
     sets.push_back(cube);
   }
   {
+    // A 5 x 5 grid on every face of a cube, shuffled: most points inside flat facets.
+    std::vector<Vec3> surface;
+    for (int i = 0; i < 5; ++i)
+      for (int j = 0; j < 5; ++j)
+        for (int l = 0; l < 5; ++l)
+          if (i % 4 == 0 || j % 4 == 0 || l % 4 == 0) surface.emplace_back(0.3 * i, 0.3 * j, 0.3 * l);
+    std::shuffle(surface.begin(), surface.end(), rng);
+    sets.push_back(surface);
+  }
+  {
     std::vector<Vec3> pyramid;
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j) pyramid.emplace_back(i, j, 0);

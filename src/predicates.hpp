@@ -294,6 +294,19 @@ struct OrientPlane {
     double det;
     if (const int s = OrientPlane(*b, *c, *a).filter(d, det); s != kUndecided) return s;
     if (const int s = OrientPlane(*c, *a, *b).filter(d, det); s != kUndecided) return s;
+    // An edge parallel to a coordinate axis k (its other two coordinates equal): with u = b - a
+    // = (0, u_k, 0), det[u, v, w] = u_k (v x w)_k, a 2D orientation in the other two coordinates,
+    // whose exact stages cost a fraction of orient3d's.
+    const Vec3* corner[3] = {a, b, c};
+    for (int e = 0; e < 3; ++e) {
+      const Vec3 &p = *corner[e], &q = *corner[(e + 1) % 3], &r = *corner[(e + 2) % 3];
+      for (int k = 0; k < 3; ++k) {
+        const int i = (k + 1) % 3, j = (k + 2) % 3;
+        if (p[i] != q[i] || p[j] != q[j]) continue;
+        const int along = (q[k] > p[k]) - (q[k] < p[k]);
+        return along * orient2d(p[i], p[j], r[i], r[j], d[i], d[j]);
+      }
+    }
     return orient3d_adaptive(*a, *b, *c, d);
   }
 };

@@ -1,3 +1,5 @@
+
+
 // 3D convex hull by Quickhull (Barber, Dobkin & Huhdanpaa 1996, "The Quickhull algorithm for
 // convex hulls", ACM TOMS 22(4)) with exact orientation predicates; 2D hull by Andrew's
 // monotone chain.
@@ -75,7 +77,9 @@ struct HullWorkspace::State {
   // Quickhull
   std::vector<quickhull::Face> faces;
   std::vector<std::uint32_t> free_faces;  // slots of deleted faces, reused
-  std::vector<std::uint32_t> pending;     // faces that may have outside points (a stack)
+  // Faces with outside points, a max-heap by the distance of their farthest point (a face may
+  // appear again after it was processed or replaced: such entries are skipped).
+  std::vector<std::pair<double, std::uint32_t>> pending;
   std::vector<std::uint32_t> candidates;  // the points the hull is built from
   std::vector<quickhull::OutsidePoint> pool, spare_pool;  // the outside sets, and a compaction buffer
   std::vector<quickhull::OutsidePoint> unassigned;        // points being partitioned
@@ -172,8 +176,11 @@ class Quickhull {
     std::uint32_t stamp = 0;
     // Every iteration makes one more point a vertex: at most one per candidate.
     std::size_t iterations = 0;
+    // The farthest outside point of all first: fewer vertices are added and swallowed again
+    // than in depth-first order (man.off: 513 points added for 480 vertices, against 1193).
     while (!s_.pending.empty()) {
-      const std::uint32_t f = s_.pending.back();
+      std::pop_heap(s_.pending.begin(), s_.pending.end());
+      const std::uint32_t f = s_.pending.back().second;
       s_.pending.pop_back();
       if (!s_.faces[f].alive || s_.faces[f].outside_size == 0) continue;
       if (++iterations > s_.candidates.size())
@@ -402,7 +409,10 @@ class Quickhull {
     face.farthest = best;
     face.farthest_value = best_value;
     live_ += face.outside_size;
-    if (face.outside_size > 0) s_.pending.push_back(f);
+    if (face.outside_size > 0) {
+      s_.pending.emplace_back(best_value / plane.normal.norm(), f);
+      std::push_heap(s_.pending.begin(), s_.pending.end());
+    }
   }
 
   // The pool only grows while faces die; moves the live outside sets to the front when most of
@@ -416,7 +426,7 @@ class Quickhull {
       face.outside_begin = static_cast<std::uint32_t>(s_.spare_pool.size());
       s_.spare_pool.insert(s_.spare_pool.end(), begin, begin + face.outside_size);
     }
-    std::swap(s_.pool, s_.spare_pool);
+    s_.pool.assign(s_.spare_pool.begin(), s_.spare_pool.end());  // (a swap would trade capacities)
   }
 
   // The slot of `face` whose edge runs from -> to (kNone when it has no such edge).

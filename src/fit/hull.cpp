@@ -415,10 +415,10 @@ class Quickhull {
     }
   }
 
-  // The pool only grows while faces die; moves the live outside sets to the front when most of
-  // it is dead.
+  // The pool only grows while faces die; moves the live outside sets to the front once three
+  // quarters of it are dead (at half, compaction took 5% of man.off's hull).
   void compact_pool() {
-    if (s_.pool.size() < 4096 || s_.pool.size() < 2 * live_) return;
+    if (s_.pool.size() < 4096 || s_.pool.size() < 4 * live_) return;
     s_.spare_pool.clear();
     for (Face& face : s_.faces) {
       if (!face.alive || face.outside_size == 0) continue;

@@ -233,17 +233,21 @@ inline void add_determinant(Expansion<N>& out, const Vec3& u, const Vec3& v, con
   return orient3d_exact(a, b, c, d);
 }
 
+// OrientPlane::filter()'s verdict when the rounded determinant does not decide the sign.
+inline constexpr int kUndecided = 2;
+
 // A plane through (a, b, c) prepared for many orient3d queries against it.
 struct OrientPlane {
   const Vec3* a;
   const Vec3* b;
   const Vec3* c;
+  Vec3 origin;     // *a, copied: the filter reads no other memory
   Vec3 normal;     // (b - a) x (c - a), rounded
   Vec3 permanent;  // the same with |.| on every product: bounds the rounding error
   bool repeated;   // two of a, b, c coincide: every orientation is zero
 
   OrientPlane(const Vec3& pa, const Vec3& pb, const Vec3& pc)
-      : a(&pa), b(&pb), c(&pc), repeated(pa == pb || pa == pc || pb == pc) {
+      : a(&pa), b(&pb), c(&pc), origin(pa), repeated(pa == pb || pa == pc || pb == pc) {
     const Vec3 u = pb - pa, v = pc - pa;
     normal = u.cross(v);
     permanent = Vec3(std::abs(u.y() * v.z()) + std::abs(u.z() * v.y()), std::abs(u.z() * v.x()) + std::abs(u.x() * v.z()),
@@ -251,14 +255,58 @@ struct OrientPlane {
   }
 
   [[nodiscard]] int sign(const Vec3& d) const {
-    const Vec3 w = d - *a;
-    const double det = normal.dot(w);
+    double det;
+    const int s = filter(d, det);
+    return s != kUndecided ? s : resolve(d);
+  }
+  // The static filter alone: +1 or -1 when decisive, 0 when the determinant is exactly zero
+  // because every product in it has a zero factor (e.g. all four points on a plane z = const),
+  // else kUndecided. `det` gets the rounded determinant normal . (d - a) (it ranks points by their
+  // distance to the plane).
+  [[nodiscard]] int filter(const Vec3& d, double& det) const {
+    const Vec3 w = d - origin;
+    det = normal.dot(w);
     const double bound = kOrient3dBound * permanent.dot(w.cwiseAbs());
     if (det > bound) return 1;
     if (-det > bound) return -1;
-    // A zero bound means every product has an exactly zero difference as a factor (e.g. all
-    // four points on a plane z = const): the exact determinant is zero.
-    if (bound == 0.0 || repeated || d == *a || d == *b || d == *c) return 0;
+    return bound == 0.0 ? 0 : kUndecided;
+  }
+  // An upper bound on filter()'s error bound for every d whose rounded difference d - a is at
+  // most `extent` in absolute value, componentwise (e.g. the extents of a box holding a and d).
+  [[nodiscard]] double bound_within(const Vec3& extent) const {
+    constexpr double kMargin = 1.0 + 8.0 * kUnitRoundoff;  // rounding of this bound itself
+    return kOrient3dBound * kMargin * permanent.dot(extent * kMargin);
+  }
+  // The sign for such a d when the rounded determinant alone decides it (it exceeds
+  // bound_within() in absolute value): `above` for +1, `below` for -1, neither when filter()
+  // must decide. Branch-free, for loops over many points whose signs are unpredictable.
+  void classify_within(const Vec3& d, double bound, double& det, bool& above, bool& below) const {
+    det = normal.dot(d - origin);
+    above = det > bound;
+    below = -det > bound;
+  }
+  // The exact sign where filter() was undecided.
+  [[nodiscard]] int resolve(const Vec3& d) const {
+    if (repeated || d == *a || d == *b || d == *c) return 0;
+    // The same sign with b or c as the base point (a cyclic rotation): when d lies on an
+    // axis-parallel line through two of the vertices (extruded CAD shapes), one of the rotations
+    // has a zero bound, so the costly exact stages are skipped.
+    double det;
+    if (const int s = OrientPlane(*b, *c, *a).filter(d, det); s != kUndecided) return s;
+    if (const int s = OrientPlane(*c, *a, *b).filter(d, det); s != kUndecided) return s;
+    // An edge parallel to a coordinate axis k (its other two coordinates equal): with u = b - a
+    // = (0, u_k, 0), det[u, v, w] = u_k (v x w)_k, a 2D orientation in the other two coordinates,
+    // whose exact stages cost a fraction of orient3d's.
+    const Vec3* corner[3] = {a, b, c};
+    for (int e = 0; e < 3; ++e) {
+      const Vec3 &p = *corner[e], &q = *corner[(e + 1) % 3], &r = *corner[(e + 2) % 3];
+      for (int k = 0; k < 3; ++k) {
+        const int i = (k + 1) % 3, j = (k + 2) % 3;
+        if (p[i] != q[i] || p[j] != q[j]) continue;
+        const int along = (q[k] > p[k]) - (q[k] < p[k]);
+        return along * orient2d(p[i], p[j], r[i], r[j], d[i], d[j]);
+      }
+    }
     return orient3d_adaptive(*a, *b, *c, d);
   }
 };

@@ -8,6 +8,8 @@
 
 #include <random>
 
+#include "tightbvh/aabb.hpp"
+
 namespace tightbvh::detail {
 namespace {
 
@@ -114,6 +116,65 @@ TEST(Predicates, Orient3dGeneralPathAgainstQuadPrecision) {
   EXPECT_GT(compared, 15000);
   EXPECT_GT(signs[0], 3000);
   EXPECT_GT(signs[2], 3000);
+}
+
+// Points on lines parallel to an axis (an extruded shape). With two corners on such a line,
+// d on that line is decided through a rotated base point (every product then has a zero factor)
+// and d on the parallel line through the third corner (the plane holds the axis direction)
+// through a 2D orientation in the other two coordinates; both without orient3d's exact stages.
+// d moved off by one ulp must keep its exact sign (reference: orient3d_exact).
+TEST(Predicates, OrientPlaneOnAxisParallelLines) {
+  std::mt19937_64 rng(29);
+  std::uniform_int_distribution<std::int64_t> coord(-1000, 1000);
+  std::uniform_int_distribution<int> axis(0, 2);
+  int zeros = 0, undecided = 0;
+  for (int iter = 0; iter < 60000; ++iter) {
+    Vec3 q[4];
+    for (int i = 0; i < 3; ++i) q[i] = Vec3(double(coord(rng)), double(coord(rng)), double(coord(rng))) * 0.1;
+    const int line = axis(rng), first = iter % 3, second = (first + 1) % 3, third = (first + 2) % 3;
+    q[second] = q[first];
+    q[second][line] += 0.1 * double(50 + std::abs(coord(rng)) % 50);
+    q[3] = (iter / 3) % 2 ? q[first] : q[third];
+    q[3][line] = 0.1 * double(coord(rng));
+    const int off = (line + 1 + iter % 2) % 3;
+    if (iter % 4 == 1) q[3][off] = std::nextafter(q[3][off], 1e9);
+    if (iter % 4 == 2) q[3][off] = std::nextafter(q[3][off], -1e9);
+    const OrientPlane plane(q[0], q[1], q[2]);
+    double det;
+    undecided += plane.filter(q[3], det) == kUndecided;
+    const int expected = orient3d_exact(q[0], q[1], q[2], q[3]);
+    zeros += expected == 0;
+    ASSERT_EQ(plane.sign(q[3]), expected) << "iteration " << iter;
+  }
+  EXPECT_GT(zeros, 20000);
+  EXPECT_GT(undecided, 10000);
+}
+
+// bound_within / classify_within: a sign decided against the bound for a box holding all the
+// points agrees with the exact sign, also for nearly coplanar points.
+TEST(Predicates, OrientPlaneBoundWithinABox) {
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int decided = 0;
+  for (int iter = 0; iter < 20000; ++iter) {
+    const Vec3 offset = Vec3(u(rng), u(rng), u(rng)) * (iter % 2 ? 1e6 : 1.0);
+    const Vec3 a = offset + Vec3(u(rng), u(rng), u(rng)), b = offset + Vec3(u(rng), u(rng), u(rng)),
+               c = offset + Vec3(u(rng), u(rng), u(rng));
+    const double s = u(rng), t = u(rng);
+    const Vec3 d = iter % 4 == 0 ? Vec3(offset + Vec3(u(rng), u(rng), u(rng))) : Vec3(a + s * (b - a) + t * (c - a));
+    Aabb box;
+    for (const Vec3& p : {a, b, c, d}) box.extend(p);
+    const OrientPlane plane(a, b, c);
+    double det;
+    bool above, below;
+    plane.classify_within(d, plane.bound_within(box.extents()), det, above, below);
+    ASSERT_FALSE(above && below);
+    const int exact = orient3d_exact(a, b, c, d);
+    if (above) ASSERT_EQ(exact, 1) << "iteration " << iter;
+    if (below) ASSERT_EQ(exact, -1) << "iteration " << iter;
+    decided += above || below;
+  }
+  EXPECT_GT(decided, 5000);
 }
 
 // Classic case where the rounded determinant has the wrong sign: points on a line through

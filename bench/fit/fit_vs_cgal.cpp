@@ -82,13 +82,13 @@ double per_call(F&& f, double budget = 0.2) {
   return spent / calls;
 }
 
-// qhull (our convex_hull: dimension check, prefilter, qhull 'Qt', graph) against CGAL's
+// Our convex_hull (dimension check, Quickhull, edge/face graph) against CGAL's
 // quickhull (CGAL::convex_hull_3 into a Surface_mesh) on node-sized inputs: the n vertices of a
 // mesh nearest to one of its vertices.
 void compare_hulls(const std::filesystem::path& mesh_path) {
   const auto all = tightbvh::load_mesh(mesh_path).vertices;
   std::printf("hull timing on %s nodes (thread CPU per call)\n%8s %6s %12s %12s %8s\n", mesh_path.filename().c_str(),
-              "points", "hull", "qhull us", "CGAL us", "CGAL/qhull");
+              "points", "hull", "ours us", "CGAL us", "CGAL/ours");
   for (std::size_t n : {10, 30, 100, 300, 1000, 3000, 10000}) {
     if (n > all.size()) break;
     std::vector<tightbvh::Vec3> node(all);
@@ -126,7 +126,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--json", json_path, "also write the per-mesh results to this JSON file");
   std::string hulls_mesh;
-  app.add_option("--hulls", hulls_mesh, "only time qhull vs CGAL::convex_hull_3 on nodes of this mesh");
+  app.add_option("--hulls", hulls_mesh, "only time our convex_hull vs CGAL::convex_hull_3 on nodes of this mesh");
   CLI11_PARSE(app, argc, argv);
   if (!hulls_mesh.empty()) {
     compare_hulls(hulls_mesh);

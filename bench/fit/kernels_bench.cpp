@@ -2,7 +2,7 @@
 //   BM_Fit/<method>/<source>/<n>: every fitter on node-sized inputs, the n mesh vertices
 //     nearest to one vertex (what a BVH node holds), and on Gaussian sets for contrast;
 //   BM_FitMesh/<method>/<mesh>: every fitter on the shipped meshes;
-//   BM_Hull/<source>/<n>: the 3D convex hull (qhull) alone.
+//   BM_Hull/<source>/<n>: the 3D convex hull alone.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>

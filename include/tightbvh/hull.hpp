@@ -38,7 +38,8 @@ struct ConvexHull3 {
   void clear();
 };
 
-// Reusable state of the hull computation (qhull's context and coordinate buffers).
+// Reusable state of the hull computation (Quickhull's faces and outside sets): once its buffers
+// have grown, hulls of sets up to the same size allocate nothing. One per thread.
 class HullWorkspace {
  public:
   HullWorkspace();
@@ -52,10 +53,11 @@ class HullWorkspace {
   std::unique_ptr<State> state_;
 };
 
-// The convex hull of finite points (duplicates, coplanar and collinear sets are fine).
-// Uses qhull (reentrant API, triangulated output 'Qt', near-inside points not partitioned 'Q8';
-// joggled 'QJ' as a fallback when the default precision handling reports an error). Throws
-// InputError on an empty set.
+// The convex hull of finite points (duplicates, coplanar and collinear sets are fine). Solid
+// sets: Quickhull (Barber, Dobkin & Huhdanpaa 1996) with exact orientation predicates, so the
+// vertices are exactly the strictly extreme points (a point inside a face or an edge is not a
+// vertex, one copy of duplicates is) and every input point is on or below every face plane.
+// Throws InputError on an empty set (and may for non-finite coordinates).
 [[nodiscard]] ConvexHull3 convex_hull(std::span<const Vec3> points);
 void convex_hull(std::span<const Vec3> points, ConvexHull3& out, HullWorkspace& workspace);
 

@@ -66,6 +66,12 @@ AxisBox exact_box(const HullGeometry& g, ExactScratch& s, BoptScratch& bs) {
   s.hints.fill(0);
   AxisBox best = box_of_hull(g, Mat3::Identity());
   double best_volume = best.volume();
+  // Hill climbing (extreme_vertex) can stop short of the maximum where a vertex's better
+  // neighbours tie with it in floating point: a vertex of the exact hull that bulges out of a
+  // flat facet by less than the rounding, climbed along that facet's normal. Such a width is
+  // too small, so a volume is only taken as the best so far after box_of_hull (a scan of every
+  // vertex) confirms it; the lower bounds below stay valid with too small widths.
+  const auto confirmed = [&](const Mat3& axes) { return box_of_hull(g, axes); };
 
   // 1. Boxes with a face flush with a hull face: Bopt along each distinct face normal.
   const std::size_t nf = hull.faces.size();
@@ -82,15 +88,20 @@ AxisBox exact_box(const HullGeometry& g, ExactScratch& s, BoptScratch& bs) {
     if (k > 0 && normals[f] == normals[s.face_order[k - 1]]) continue;
     ++s.stats.face_directions;
     const AxisBox box = bopt(g, normals[f], bs);
-    const double volume = box.volume();
-    if (volume < best_volume) best_volume = volume, best = box;
+    if (box.volume() < best_volume) {
+      const AxisBox checked = confirmed(box.axes);
+      if (checked.volume() < best_volume) best_volume = checked.volume(), best = checked;
+    }
   }
 
   // A good first upper bound lets the bounds below skip most families: the grid search of
   // Section 6.4 with k = 2 and the local improvement (any valid box is a valid bound).
   {
     const AxisBox seed = grid_search(g, lemma_box(g), 2, true, bs);
-    if (seed.volume() < best_volume) best_volume = seed.volume(), best = seed;
+    if (seed.volume() < best_volume) {
+      const AxisBox checked = confirmed(seed.axes);
+      if (checked.volume() < best_volume) best_volume = checked.volume(), best = checked;
+    }
   }
 
   // 2. Normal arcs of the edges (outward normals, rotating from face[0]'s to face[1]'s).
@@ -138,6 +149,10 @@ AxisBox exact_box(const HullGeometry& g, ExactScratch& s, BoptScratch& bs) {
     if (!(v < best_volume)) return;
     Vec3 n1, n2;
     if (!ev.frame(i, j, t, n1, n2)) return;
+    Mat3 axes;
+    axes << n1, n2, n1.cross(n2);
+    v = confirmed(axes).volume();
+    if (!(v < best_volume)) return;
     best_volume = v;
     best_n1 = n1;
     best_n2 = n2;

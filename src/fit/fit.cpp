@@ -55,20 +55,23 @@ Mat3 degenerate_axes(const ConvexHull3& hull, std::vector<Vec2>& polygon) {
 }
 
 // Sets with at most this many distinct points skip the 3D hull in `approx` and `diameter`:
-// Bopt projects all points instead of the hull's silhouette (same boxes), which on such sets
-// costs less than qhull's fixed ~18 us per call (most tree nodes are this small).
-constexpr std::size_t kSmallSet = 32;
+// Bopt projects all points instead of the hull's silhouette (same boxes). The hull costs ~1 us
+// for 10 points and ~3 us for 30, so `diameter` (one Bopt) still gains from skipping it up to 32
+// points, `approx` (dozens of Bopt calls, cheaper on the silhouette) only up to 16
+// (tightbvh-build-bench approx: 16 best; 32: +2.5%, 8: +1%, no skipping: +7%).
+constexpr std::size_t kSmallSetApprox = 16;
+constexpr std::size_t kSmallSetDiameter = 32;
 
-// The distinct points of a small set (sorted), or false when there are more than kSmallSet.
-bool distinct_small(std::span<const Vec3> points, std::vector<Vec3>& out) {
-  if (points.size() > 4 * kSmallSet) return false;
+// The distinct points of a small set (sorted), or false when there are more than `limit`.
+bool distinct_small(std::span<const Vec3> points, std::size_t limit, std::vector<Vec3>& out) {
+  if (points.size() > 4 * limit) return false;
   out.assign(points.begin(), points.end());
   const auto less = [](const Vec3& a, const Vec3& b) {
     return a.x() < b.x() || (a.x() == b.x() && (a.y() < b.y() || (a.y() == b.y() && a.z() < b.z())));
   };
   std::sort(out.begin(), out.end(), less);
   out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out.size() <= kSmallSet;
+  return out.size() <= limit;
 }
 
 // True when the set is clearly three-dimensional: convex_hull's dimension test (extreme pair
@@ -158,7 +161,8 @@ Obb fit_checked(std::span<const Vec3> points, std::span<const Vec3> triangle_cor
   }
   // Hull-based methods.
   if ((options.method == FitMethod::approx || options.method == FitMethod::diameter) &&
-      distinct_small(points, s.distinct) && clearly_solid(s.distinct)) {
+      distinct_small(points, options.method == FitMethod::approx ? kSmallSetApprox : kSmallSetDiameter, s.distinct) &&
+      clearly_solid(s.distinct)) {
     s.geometry.reset_points(s.distinct, origin);  // no hull: Bopt projects every point
     s.last_hull_vertices = s.distinct.size();
   } else {

@@ -62,7 +62,7 @@ inline std::size_t triangle_budget(const Fitter& fitter) {
       case FitMethod::approx_snap:  // ~20 s for 318 triangles (dragknob), hence tiny subsets
         return 24;
       default:
-        return 400;  // diameter, approx: qhull + grid search at every node
+        return 400;  // diameter, approx: hull + grid search at every node
     }
   }
   return 1500;  // auto: approx above 512 triangles

@@ -1,44 +1,185 @@
 // Tests of the convex hulls and rotating calipers (src/fit/hull.cpp, src/fit/min_rect.cpp).
+// The 3D hull (our Quickhull) is checked exactly: against a brute-force set of extreme points on
+// small degenerate sets, and against qhull (tests/fit/qhull_oracle.cpp) on meshes.
 #include "tightbvh/hull.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <map>
+#include <new>
 #include <random>
 #include <set>
 
+#include "../../src/predicates.hpp"
+#include "qhull_oracle.hpp"
 #include "test_util.hpp"
-#include "tightbvh/min_rect.hpp"
 #include "tightbvh/fit.hpp"
 #include "tightbvh/mesh.hpp"
-#include "../../src/predicates.hpp"
+#include "tightbvh/min_rect.hpp"
+
+// Counts allocations, to check that repeated hulls with a warm workspace allocate nothing.
+namespace {
+std::atomic<long> g_allocations{0};
+}  // namespace
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace tightbvh {
 namespace {
 
-// Every point is on the inner side of every face plane; Euler's formula holds; every edge
-// joins two faces that contain it.
-void expect_valid_solid_hull(const ConvexHull3& hull, std::span<const Vec3> points) {
-  ASSERT_EQ(hull.dimension, 3);
+using Key = std::array<double, 3>;
+Key key(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
+
+bool collinear(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return detail::orient2d(a.x(), a.y(), b.x(), b.y(), c.x(), c.y()) == 0 &&
+         detail::orient2d(a.y(), a.z(), b.y(), b.z(), c.y(), c.z()) == 0 &&
+         detail::orient2d(a.z(), a.x(), b.z(), b.x(), c.z(), c.x()) == 0;
+}
+
+// Exact checks of a solid hull of `points`: vertices are input points at distinct positions;
+// faces are non-degenerate and counter-clockwise seen from outside, every input point is on
+// the inner side of (or on) every face plane (exact orient3d <= 0); every directed edge
+// appears once and its reverse once (a closed, consistently oriented surface); Euler's
+// formula; the edge list and the vertex adjacency match the faces; unit normals, outward,
+// equal for exactly coplanar neighbours.
+::testing::AssertionResult valid_solid_hull(const ConvexHull3& hull, std::span<const Vec3> points) {
+  using ::testing::AssertionFailure;
+  if (hull.dimension != 3) return AssertionFailure() << "dimension " << hull.dimension;
+  const std::size_t nv = hull.vertices.size(), nf = hull.faces.size();
   const double scale = bounds_of(points).diagonal();
-  const auto nv = static_cast<long>(hull.vertices.size());
-  const auto ne = static_cast<long>(hull.edges.size());
-  const auto nf = static_cast<long>(hull.faces.size());
-  EXPECT_EQ(nv - ne + nf, 2);
-  for (std::size_t f = 0; f < hull.faces.size(); ++f) {
-    const Vec3& n = hull.face_normals[f];
-    EXPECT_NEAR(n.norm(), 1.0, 1e-12);
-    const Vec3& a = hull.vertices[hull.faces[f][0]];
-    for (const Vec3& p : points) EXPECT_LE(n.dot(p - a), 1e-9 * scale);
+  if (nv < 4 || hull.input_index.size() != nv || hull.face_normals.size() != nf)
+    return AssertionFailure() << "sizes: " << nv << " vertices, " << hull.input_index.size() << " indices, " << nf
+                              << " faces, " << hull.face_normals.size() << " normals";
+  std::set<Key> positions;
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (hull.input_index[v] >= points.size() || hull.vertices[v] != points[hull.input_index[v]])
+      return AssertionFailure() << "vertex " << v << " is not its input point";
+    if (!positions.insert(key(hull.vertices[v])).second) return AssertionFailure() << "duplicate vertex " << v;
   }
-  for (const HullEdge& e : hull.edges)
-    for (std::uint32_t f : e.face) {
-      const auto& face = hull.faces[f];
-      EXPECT_TRUE(std::count(face.begin(), face.end(), e.vertex[0]) == 1 &&
-                  std::count(face.begin(), face.end(), e.vertex[1]) == 1);
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  std::vector<int> used(nv, 0);
+  for (std::size_t f = 0; f < nf; ++f) {
+    const auto& t = hull.faces[f];
+    for (std::uint32_t v : t)
+      if (v >= nv) return AssertionFailure() << "face " << f << " has a bad vertex";
+    const Vec3 &a = hull.vertices[t[0]], &b = hull.vertices[t[1]], &c = hull.vertices[t[2]];
+    if (collinear(a, b, c)) return AssertionFailure() << "face " << f << " is degenerate";
+    const detail::OrientPlane plane(a, b, c);
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (plane.sign(points[i]) > 0) return AssertionFailure() << "point " << i << " is above face " << f;
+    for (int k = 0; k < 3; ++k) {
+      ++used[t[k]];
+      if (++directed[{t[k], t[(k + 1) % 3]}] != 1) return AssertionFailure() << "directed edge twice, face " << f;
     }
-  for (std::size_t i = 0; i < hull.vertices.size(); ++i)
-    EXPECT_EQ(hull.vertices[i], points[hull.input_index[i]]);
+    const Vec3& n = hull.face_normals[f];
+    if (std::abs(n.norm() - 1.0) > 1e-12) return AssertionFailure() << "normal " << f << " not unit";
+    if (n.dot((b - a).cross(c - a)) <= 0.0) return AssertionFailure() << "normal " << f << " points inward";
+    for (const Vec3& p : points)
+      if (n.dot(p - a) > 1e-9 * scale) return AssertionFailure() << "a point is above normal " << f;
+  }
+  for (const auto& [e, count] : directed)
+    if (directed.count({e.second, e.first}) != 1) return AssertionFailure() << "edge without its reverse";
+  for (std::size_t v = 0; v < nv; ++v)
+    if (used[v] == 0) return AssertionFailure() << "vertex " << v << " in no face";
+  const auto ne = static_cast<long>(hull.edges.size());
+  if (2 * ne != 3 * static_cast<long>(nf) || static_cast<long>(nv) - ne + static_cast<long>(nf) != 2)
+    return AssertionFailure() << "V - E + F = " << nv << " - " << ne << " + " << nf;
+  std::set<std::pair<std::uint32_t, std::uint32_t>> undirected;
+  for (const HullEdge& e : hull.edges) {
+    if (!undirected.insert(std::minmax(e.vertex[0], e.vertex[1])).second) return AssertionFailure() << "edge twice";
+    for (std::uint32_t f : e.face) {
+      const auto& t = hull.faces[f];
+      if (std::count(t.begin(), t.end(), e.vertex[0]) != 1 || std::count(t.begin(), t.end(), e.vertex[1]) != 1)
+        return AssertionFailure() << "edge not on its face";
+    }
+    const auto& t0 = hull.faces[e.face[0]];
+    const auto& t1 = hull.faces[e.face[1]];
+    std::uint32_t opposite = t1[0];
+    for (std::uint32_t v : t1)
+      if (v != e.vertex[0] && v != e.vertex[1]) opposite = v;
+    const bool coplanar =
+        detail::orient3d(hull.vertices[t0[0]], hull.vertices[t0[1]], hull.vertices[t0[2]], hull.vertices[opposite]) == 0;
+    if (coplanar && hull.face_normals[e.face[0]] != hull.face_normals[e.face[1]])
+      return AssertionFailure() << "coplanar faces " << e.face[0] << ", " << e.face[1] << " with different normals";
+  }
+  if (hull.neighbor_offsets.size() != nv + 1 || hull.neighbors.size() != 2 * hull.edges.size())
+    return AssertionFailure() << "adjacency sizes";
+  for (std::size_t v = 0; v < nv; ++v)
+    for (std::uint32_t k = hull.neighbor_offsets[v]; k < hull.neighbor_offsets[v + 1]; ++k)
+      if (!undirected.count(std::minmax(static_cast<std::uint32_t>(v), hull.neighbors[k])))
+        return AssertionFailure() << "adjacency of " << v << " has a non-edge";
+  return ::testing::AssertionSuccess();
+}
+
+// The strictly extreme points of a solid set (as positions), by brute force with exact
+// predicates: a plane through three non-collinear points with every point weakly on one side
+// supports a facet, and every facet is found this way; a point is a vertex of the hull iff no
+// other point lies on all the facet planes through it (an interior point has none, a point
+// inside a facet or an edge shares them with that facet's or edge's other points).
+std::set<Key> brute_force_extreme(std::span<const Vec3> points) {
+  std::vector<Vec3> d(points.begin(), points.end());
+  std::sort(d.begin(), d.end(), [](const Vec3& a, const Vec3& b) { return key(a) < key(b); });
+  d.erase(std::unique(d.begin(), d.end()), d.end());
+  const std::size_t m = d.size();
+  std::vector<std::array<std::size_t, 3>> facets;
+  for (std::size_t i = 0; i < m; ++i)
+    for (std::size_t j = i + 1; j < m; ++j)
+      for (std::size_t k = j + 1; k < m; ++k) {
+        if (collinear(d[i], d[j], d[k])) continue;
+        const detail::OrientPlane plane(d[i], d[j], d[k]);
+        bool below = true, above = true;
+        for (std::size_t q = 0; q < m && (below || above); ++q) {
+          const int s = plane.sign(d[q]);
+          below = below && s <= 0;
+          above = above && s >= 0;
+        }
+        if (below || above) facets.push_back({i, j, k});
+      }
+  std::set<Key> extreme;
+  for (std::size_t q = 0; q < m; ++q) {
+    std::vector<detail::OrientPlane> through;
+    for (const auto& t : facets) {
+      const detail::OrientPlane plane(d[t[0]], d[t[1]], d[t[2]]);
+      if (plane.sign(d[q]) == 0) through.push_back(plane);
+    }
+    bool vertex = true;
+    for (std::size_t r = 0; r < m && vertex; ++r)
+      vertex = r == q || std::any_of(through.begin(), through.end(), [&](const auto& p) { return p.sign(d[r]) != 0; });
+    if (vertex) extreme.insert(key(d[q]));
+  }
+  return extreme;
+}
+
+std::set<Key> vertex_positions(const ConvexHull3& hull) {
+  std::set<Key> out;
+  for (const Vec3& v : hull.vertices) out.insert(key(v));
+  return out;
+}
+
+// The hull is valid and its vertices are exactly the brute-force extreme points.
+::testing::AssertionResult exact_hull(std::span<const Vec3> points, HullWorkspace& workspace) {
+  ConvexHull3 hull;
+  convex_hull(points, hull, workspace);
+  if (auto valid = valid_solid_hull(hull, points); !valid) return valid;
+  const std::set<Key> expected = brute_force_extreme(points), got = vertex_positions(hull);
+  if (got != expected)
+    return ::testing::AssertionFailure() << got.size() << " vertices, " << expected.size() << " extreme points";
+  return ::testing::AssertionSuccess();
+}
+
+void expect_valid_solid_hull(const ConvexHull3& hull, std::span<const Vec3> points) {
+  EXPECT_TRUE(valid_solid_hull(hull, points));
 }
 
 TEST(Hull3, CubeWithInteriorAndDuplicatePointsAndCoplanarFaces) {
@@ -82,6 +223,278 @@ TEST(Hull3, FarFromOrigin) {
   auto points = test::gaussian_points(200, 9);
   for (auto& p : points) p += Vec3(1e6, 2e6, -1e6);
   expect_valid_solid_hull(convex_hull(points), points);
+}
+
+// Degenerate solid sets: grids (massive coplanarity and collinearity), lattice points on
+// spheres (cospherical, with coplanar subsets), duplicates, many points on the faces and edges
+// of a cube, a pyramid and a tilted facet with many points in it, an extruded profile (points on
+// lines parallel to an axis, as in extruded CAD shapes), a nearly coplanar slab; each also
+// translated far from the origin.
+std::vector<std::vector<Vec3>> degenerate_sets() {
+  std::vector<std::vector<Vec3>> sets;
+  std::mt19937_64 rng(11);
+  std::uniform_int_distribution<int> eighth(1, 7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int k : {2, 3, 4}) {
+    for (double step : {1.0, 0.1}) {
+      std::vector<Vec3> grid;
+      for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j)
+          for (int l = 0; l < k; ++l) grid.emplace_back(step * i, step * j, step * l);
+      sets.push_back(grid);
+    }
+  }
+  for (std::size_t n : {20, 35, 50}) {
+    std::vector<Vec3> all;
+    for (int i = 0; i < 5; ++i)
+      for (int j = 0; j < 5; ++j)
+        for (int l = 0; l < 5; ++l) all.emplace_back(i, j, l);
+    std::shuffle(all.begin(), all.end(), rng);
+    sets.emplace_back(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(n));
+  }
+  for (int r2 : {25, 50}) {
+    std::vector<Vec3> sphere;
+    for (int x = -8; x <= 8; ++x)
+      for (int y = -8; y <= 8; ++y)
+        for (int z = -8; z <= 8; ++z)
+          if (x * x + y * y + z * z == r2) sphere.emplace_back(x, y, z);
+    sets.push_back(sphere);
+  }
+  {
+    std::normal_distribution<double> normal;
+    std::vector<Vec3> sphere(40);
+    for (auto& p : sphere) p = Vec3(normal(rng), normal(rng), normal(rng)).normalized();
+    sets.push_back(sphere);
+  }
+  {
+    auto base = test::gaussian_points(15, 3);
+    std::vector<Vec3> copies;
+    for (int c = 0; c < 3; ++c) copies.insert(copies.end(), base.begin(), base.end());
+    std::shuffle(copies.begin(), copies.end(), rng);
+    sets.push_back(copies);
+  }
+  {
+    std::vector<Vec3> cube;
+    for (int i = 0; i < 8; ++i) cube.emplace_back(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+    const auto coordinate = [&] { return eighth(rng) / 8.0; };
+    for (int i = 0; i < 24; ++i) {  // on faces
+      Vec3 p(coordinate(), coordinate(), coordinate());
+      p[i % 3] = (i / 3) % 2;
+      cube.push_back(p);
+    }
+    for (int i = 0; i < 12; ++i) {  // on edges
+      Vec3 p = Vec3::Constant(coordinate());
+      p[i % 3] = i % 2, p[(i + 1) % 3] = (i / 2) % 2;
+      cube.push_back(p);
+    }
+    for (int i = 0; i < 5; ++i) cube.emplace_back(coordinate(), coordinate(), coordinate());
+    std::shuffle(cube.begin(), cube.end(), rng);
+    sets.push_back(cube);
+  }
+  {
+    // A 5 x 5 grid on every face of a cube, shuffled: most points inside flat facets.
+    std::vector<Vec3> surface;
+    for (int i = 0; i < 5; ++i)
+      for (int j = 0; j < 5; ++j)
+        for (int l = 0; l < 5; ++l)
+          if (i % 4 == 0 || j % 4 == 0 || l % 4 == 0) surface.emplace_back(0.3 * i, 0.3 * j, 0.3 * l);
+    std::shuffle(surface.begin(), surface.end(), rng);
+    sets.push_back(surface);
+  }
+  {
+    std::vector<Vec3> pyramid;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) pyramid.emplace_back(i, j, 0);
+    const Vec3 apex(1.5, 1.5, 2.0);
+    pyramid.push_back(apex);
+    for (const Vec3 corner : {Vec3(0, 0, 0), Vec3(3, 0, 0), Vec3(0, 3, 0), Vec3(3, 3, 0)}) {
+      pyramid.push_back(0.5 * (corner + apex));  // on the slanted edges
+      pyramid.push_back(0.25 * corner + 0.75 * apex);
+    }
+    sets.push_back(pyramid);
+  }
+  for (int apexes : {1, 2}) {  // a facet in the tilted plane z = x + 2y
+    std::vector<Vec3> tilted;
+    for (int i = 0; i < 5; ++i)
+      for (int j = 0; j < 5; ++j) tilted.emplace_back(i, j, i + 2 * j);
+    tilted.emplace_back(2.0, 2.0, 10.0);
+    if (apexes == 2) tilted.emplace_back(2.0, 2.0, -3.0);
+    sets.push_back(tilted);
+  }
+  {
+    // An extruded profile: a polygon in (x, z) with points on its edges, times six heights.
+    const std::vector<Vec2> profile{{0, 0}, {2, 0}, {4, 0}, {4, 1}, {3, 2}, {1, 2}, {0, 1}, {2, 1}, {0.5, 0}};
+    std::vector<Vec3> extruded;
+    for (double y : {0.0, 0.3, 0.6, 1.2, 1.5, 1.7})
+      for (const Vec2& q : profile) extruded.emplace_back(q.x() * 1.1, y, q.y() * 0.7);
+    sets.push_back(extruded);
+  }
+  {
+    std::vector<Vec3> slab(40);
+    for (auto& p : slab) p = Vec3(unit(rng), unit(rng), 1e-9 * unit(rng));
+    sets.push_back(slab);
+  }
+  for (std::uint64_t seed = 1; seed <= 30; ++seed) sets.push_back(test::gaussian_points(3 + seed, seed));
+  const std::size_t plain = sets.size();
+  for (std::size_t i = 0; i < plain; ++i) {
+    std::vector<Vec3> far = sets[i];
+    for (Vec3& p : far) p += Vec3(1e6, -2e6, 3e6);
+    sets.push_back(far);
+  }
+  return sets;
+}
+
+TEST(Hull3, VerticesAreExactlyTheExtremePointsOfDegenerateSets) {
+  HullWorkspace workspace;  // one workspace for all: reuse must not leak state between calls
+  const auto sets = degenerate_sets();
+  for (std::size_t i = 0; i < sets.size(); ++i) EXPECT_TRUE(exact_hull(sets[i], workspace)) << "set " << i;
+}
+
+// A point barely above a face: its exact orientation is positive while the rounded determinant
+// is not. It is the face's only outside point, so it must still be picked (and be a vertex).
+TEST(Hull3, OutsidePointWithANonPositiveRoundedDeterminant) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(0.05, 0.3);
+  const Vec3 a(0.1, 0.2, 0.3), b(1.3, 0.1, 0.7), c(0.2, 1.1, 0.4);
+  const Vec3 below = (a + b + c) / 3.0 - 0.5 * (b - a).cross(c - a);
+  const detail::OrientPlane plane(a, b, c);
+  int found = 0;
+  HullWorkspace workspace;
+  for (int trial = 0; trial < 200000 && found < 20; ++trial) {
+    const double s = unit(rng), t = unit(rng);
+    const Vec3 q = a + s * (b - a) + t * (c - a);
+    if (plane.sign(q) <= 0 || plane.normal.dot(q - a) > 0.0) continue;
+    ++found;
+    const std::vector<Vec3> points{a, b, c, below, q};
+    EXPECT_TRUE(exact_hull(points, workspace)) << "trial " << trial;
+  }
+  EXPECT_GT(found, 0);
+}
+
+// Meshes: exactly valid, and the vertices are qhull's ('Qt Q8', the former implementation) up to
+// points that qhull classes as coplanar within its precision. Those must really be extreme: a
+// face of the hull of the other points has them strictly above it, with every other point
+// weakly below (checked exactly).
+TEST(Hull3, VerticesMatchQhullOnMeshes) {
+  std::vector<std::string> names{"meshes/camel.off", "meshes/elephant.off", "meshes/fandisk.off", "meshes/knot1.off",
+                                 "meshes/knot2.off"};
+  for (const char* corpus : {"blade", "cylinder_locally_refined", "fandisk_large", "retinal", "bear_bis", "turbine",
+                             "mech-holes-shark", "poly2x^2+y^2-0.062500", "sphere966", "cube-meshed"})
+    names.push_back(std::string("meshes/corpus/cgal/") + corpus + ".off");
+  HullWorkspace workspace;
+  oracle::QhullWorkspace qhull_workspace;
+  for (const std::string& name : names) {
+    const auto points = test::mesh_vertices(name);
+    if (points.empty()) continue;  // corpus not fetched
+    SCOPED_TRACE(name);
+    ConvexHull3 ours, theirs;
+    convex_hull(points, ours, workspace);
+    ASSERT_TRUE(valid_solid_hull(ours, points));
+    ASSERT_TRUE(oracle::qhull_hull(points, theirs, qhull_workspace));
+    const std::set<Key> a = vertex_positions(ours), b = vertex_positions(theirs);
+    std::vector<Key> only_ours, only_qhull;
+    std::set_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(only_ours));
+    std::set_difference(b.begin(), b.end(), a.begin(), a.end(), std::back_inserter(only_qhull));
+    // Points qhull keeps but we do not are inside conv(our vertices) (the hull is valid), so not
+    // extreme; qhull should not report any.
+    EXPECT_TRUE(only_qhull.empty()) << only_qhull.size() << " vertices only in qhull's hull";
+    EXPECT_LE(only_ours.size(), a.size() / 20) << "too many differences to be qhull's precision";
+    const double scale = bounds_of(points).diagonal();
+    double farthest_outside_qhull = -std::numeric_limits<double>::infinity();
+    for (const Key& k : only_ours) {
+      const Vec3 p(k[0], k[1], k[2]);
+      double distance = -std::numeric_limits<double>::infinity();
+      for (std::size_t f = 0; f < theirs.faces.size(); ++f)
+        distance = std::max(distance, theirs.face_normals[f].dot(p - theirs.vertices[theirs.faces[f][0]]));
+      farthest_outside_qhull = std::max(farthest_outside_qhull, distance);
+      EXPECT_LE(distance, 1e-12 * scale) << "vertex far outside qhull's hull";
+      std::vector<Vec3> others;
+      for (const Vec3& q : points)
+        if (q != p) others.push_back(q);
+      const ConvexHull3 rest = convex_hull(others);
+      bool certified = false;
+      for (std::size_t f = 0; f < rest.faces.size() && !certified; ++f) {
+        const detail::OrientPlane plane(rest.vertices[rest.faces[f][0]], rest.vertices[rest.faces[f][1]],
+                                        rest.vertices[rest.faces[f][2]]);
+        certified = plane.sign(p) > 0 &&
+                    std::all_of(others.begin(), others.end(), [&](const Vec3& q) { return plane.sign(q) <= 0; });
+      }
+      EXPECT_TRUE(certified) << "vertex not certified extreme";
+    }
+    if (!only_ours.empty())
+      std::printf("%s: %zu vertices, qhull %zu; ours has %zu more, at most %.1e x diagonal outside qhull's hull\n",
+                  name.c_str(), a.size(), b.size(), only_ours.size(), farthest_outside_qhull / scale);
+  }
+}
+
+// Non-finite input is rejected by the callers (fit_points), but the hull itself must still
+// return (or throw InputError), never crash or loop.
+TEST(Hull3, NonFiniteInputTerminates) {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  HullWorkspace workspace;
+  ConvexHull3 hull;
+  for (const double bad : {nan, inf, -inf}) {
+    for (std::size_t at : {0u, 5u, 99u}) {
+      for (int coordinate = 0; coordinate < 3; ++coordinate) {
+        auto points = test::gaussian_points(100, at + 1);
+        points[at][coordinate] = bad;
+        try {
+          convex_hull(points, hull, workspace);
+        } catch (const InputError&) {
+        }
+      }
+    }
+  }
+  auto points = test::gaussian_points(100, 4);
+  for (std::size_t i = 0; i < points.size(); i += 7) points[i] = Vec3::Constant(nan);
+  try {
+    convex_hull(points, hull, workspace);
+  } catch (const InputError&) {
+  }
+  SUCCEED();
+}
+
+// Once the workspace and the output have grown, hulls allocate nothing.
+TEST(Hull3, NoAllocationWithAWarmWorkspace) {
+  const std::vector<std::vector<Vec3>> inputs{test::gaussian_points(2000, 1), degenerate_sets()[6],
+                                              test::mesh_vertices("meshes/fandisk.off")};
+  HullWorkspace workspace;
+  ConvexHull3 hull;
+  for (const auto& points : inputs) convex_hull(points, hull, workspace);
+  const long before = g_allocations.load();
+  for (int round = 0; round < 3; ++round)
+    for (const auto& points : inputs) convex_hull(points, hull, workspace);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+// The checks above can fail: broken hulls are rejected.
+TEST(Hull3, CheckerRejectsBrokenHulls) {
+  const auto points = test::gaussian_points(200, 8);
+  const ConvexHull3 good = convex_hull(points);
+  ASSERT_TRUE(valid_solid_hull(good, points));
+  ConvexHull3 flipped = good;
+  std::swap(flipped.faces[3][0], flipped.faces[3][1]);
+  EXPECT_FALSE(valid_solid_hull(flipped, points));
+  ConvexHull3 moved = good;
+  moved.vertices[0] *= 0.9;  // no longer the input point
+  EXPECT_FALSE(valid_solid_hull(moved, points));
+  std::vector<Vec3> outside = points;
+  outside.push_back(good.vertices[0] * 1.5);  // a point the hull does not contain
+  EXPECT_FALSE(valid_solid_hull(good, outside));
+  ConvexHull3 normals = good;
+  normals.face_normals[0] = -normals.face_normals[0];
+  EXPECT_FALSE(valid_solid_hull(normals, points));
+  // A cube whose faces were each split into two triangles; one extra vertex inside a face makes
+  // the vertex set differ from the brute-force extreme points.
+  std::vector<Vec3> cube;
+  for (int i = 0; i < 8; ++i) cube.emplace_back(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+  EXPECT_EQ(brute_force_extreme(cube).size(), 8u);
+  cube.emplace_back(0.5, 0.5, 1.0);
+  cube.emplace_back(0.5, 0.0, 0.0);
+  cube.emplace_back(0.5, 0.5, 0.5);
+  EXPECT_EQ(brute_force_extreme(cube).size(), 8u);
+  cube.emplace_back(0.5, 0.5, 1.0 + 1e-12);
+  EXPECT_EQ(brute_force_extreme(cube).size(), 9u);
 }
 
 TEST(Hull3, DegenerateDimensions) {

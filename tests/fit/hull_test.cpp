@@ -23,17 +23,32 @@
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/min_rect.hpp"
 
-// Counts allocations, to check that repeated hulls with a warm workspace allocate nothing.
+// Counts allocations, to check that repeated hulls with a warm workspace allocate nothing. Every
+// unaligned form is replaced, so that no block crosses between these and the runtime's (or
+// AddressSanitizer's) own new/delete.
 namespace {
 std::atomic<long> g_allocations{0};
+void* counted_allocation(std::size_t size) noexcept {
+  ++g_allocations;
+  return std::malloc(size == 0 ? 1 : size);
+}
 }  // namespace
 void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  if (void* p = counted_allocation(size)) return p;
   throw std::bad_alloc();
 }
+void* operator new[](std::size_t size) {
+  if (void* p = counted_allocation(size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return counted_allocation(size); }
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept { return counted_allocation(size); }
 void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
 
 namespace tightbvh {
 namespace {

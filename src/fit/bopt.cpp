@@ -121,15 +121,23 @@ AxisBox bopt(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
   const std::size_t m = convex_hull_2d(s.projected);
   const Rect2 rect = min_area_rect(std::span<const Vec2>(s.projected.data(), m));
 
-  s.hint_max = extreme_vertex(g, a, s.hint_max < g.local.size() ? s.hint_max : 0);
-  s.hint_min = extreme_vertex(g, -a, s.hint_min < g.local.size() ? s.hint_min : 0);
+  // The extent along a by a scan of all hull vertices, not by hill climbing on the hull graph:
+  // a climb can stop at a vertex whose better neighbour ties with it in floating point (a vertex
+  // bulging out of a flat facet by less than the rounding), far from the true extreme. The scan
+  // costs less than the silhouette pass above (V < E).
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const Vec3& p : g.local) {
+    const double t = a.dot(p);
+    lo = std::min(lo, t);
+    hi = std::max(hi, t);
+  }
 
   AxisBox box;
   box.axes.col(0) = a;
   box.axes.col(1) = rect.axis.x() * u + rect.axis.y() * w;
   box.axes.col(2) = a.cross(box.axes.col(1));
-  box.lo = Vec3(a.dot(g.local[s.hint_min]), rect.min.x(), rect.min.y());
-  box.hi = Vec3(a.dot(g.local[s.hint_max]), rect.max.x(), rect.max.y());
+  box.lo = Vec3(lo, rect.min.x(), rect.min.y());
+  box.hi = Vec3(hi, rect.max.x(), rect.max.y());
   return box;
 }
 

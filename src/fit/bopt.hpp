@@ -43,8 +43,6 @@ struct BoptScratch {
   std::vector<std::uint32_t> stamp;
   std::vector<double> face_dot;
   std::uint32_t epoch = 0;
-  std::uint32_t hint_max = 0;
-  std::uint32_t hint_min = 0;
   std::size_t calls = 0;
   std::vector<std::pair<double, std::uint32_t>> grid_order;  // grid_search: (bound, direction)
 };

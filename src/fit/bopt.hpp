@@ -15,7 +15,7 @@ namespace tightbvh::fit_detail {
 // Without a hull (`hull == nullptr`, see reset_points) `local` holds a small point set whose
 // hull was never computed: Bopt then projects every point instead of the silhouette. That is
 // still exact for the direction (the 2D hull of the projection is the projection of the 3D
-// hull), and for a few dozen points cheaper than building the hull with qhull.
+// hull), and for a dozen points cheaper than building the hull (see kSmallSetApprox in fit.cpp).
 struct HullGeometry {
   const ConvexHull3* hull = nullptr;
   Vec3 origin = Vec3::Zero();

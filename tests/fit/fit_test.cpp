@@ -279,7 +279,7 @@ TEST(Fit, NearlyDegenerateAndLatticeInputs) {
 }
 
 TEST(Fit, ConcurrentWorkspacesGiveTheSameBoxes) {
-  // The builder fits nodes in parallel, one workspace per thread (qhull's reentrant API).
+  // The builder fits nodes in parallel, one workspace per thread (no shared state in the fitters).
   auto sets = random_sets();
   std::vector<std::vector<double>> expected(sets.size());
   for (std::size_t i = 0; i < sets.size(); ++i)

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "../thread_clock.hpp"
 #include "tightbvh/fit.hpp"
 #include "tightbvh/hull.hpp"
 #include "tightbvh/mesh.hpp"
@@ -36,13 +37,7 @@ struct Timed {
   double seconds = 0.0;
 };
 
-// CPU time of this thread: both sides are single-threaded, and on a machine shared with
-// other jobs the wall clock mostly measures the neighbours.
-double thread_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
+using tightbvh::bench_support::thread_seconds;  // both sides are single-threaded
 
 template <typename F>
 Timed repeat(int reps, F&& f) {

@@ -2,7 +2,6 @@
 // qhull-based hull (tests/fit/qhull_oracle.cpp: probe, prefilter, 'Qt Q8') on the vertices of
 // each mesh: median thread CPU time of R calls each, hull vertex counts, and how many vertices
 // only one of the two reports.
-#include <time.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -11,17 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "../thread_clock.hpp"
 #include "qhull_oracle.hpp"
 #include "tightbvh/hull.hpp"
 #include "tightbvh/mesh.hpp"
 
 namespace {
 
-double thread_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
+using tightbvh::bench_support::thread_seconds;
 
 template <typename F>
 double median_seconds(int reps, F&& f) {

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "../thread_clock.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/pose.hpp"
 
@@ -66,13 +67,8 @@ template <class A>
   return out;
 }
 
-// CPU time of the calling thread: the machine is shared, and wall-clock time would charge other
-// processes' load to whichever engine happened to be running. Every engine here is single-threaded.
-[[nodiscard]] inline double thread_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
+// Every engine here is single-threaded: timed by the CPU time of the calling thread.
+using tightbvh::bench_support::thread_seconds;
 
 // One timed sample: `inner` passes over all poses; returns CPU seconds per pass.
 template <class A>

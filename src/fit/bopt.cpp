@@ -57,7 +57,29 @@ AxisBox box_of_hull(const HullGeometry& g, const Mat3& axes) {
   return box;
 }
 
+Extent extent_along(const HullGeometry& g, const Vec3& v) {
+  Extent e{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (const Vec3& p : g.local) {
+    const double t = v.dot(p);
+    e.lo = std::min(e.lo, t);
+    e.hi = std::max(e.hi, t);
+  }
+  return e;
+}
+
 namespace {
+
+// The Bopt box: first axis a, the rectangle (in the (u, w) plane) as the other two.
+AxisBox box_from(const Mat3& frame, const Rect2& rect, double lo, double hi) {
+  const Vec3 a = frame.col(0), u = frame.col(1), w = frame.col(2);
+  AxisBox box;
+  box.axes.col(0) = a;
+  box.axes.col(1) = rect.axis.x() * u + rect.axis.y() * w;
+  box.axes.col(2) = a.cross(box.axes.col(1));
+  box.lo = Vec3(lo, rect.min.x(), rect.min.y());
+  box.hi = Vec3(hi, rect.max.x(), rect.max.y());
+  return box;
+}
 
 // Bopt for a geometry without hull: project every point, extents along v by a scan.
 AxisBox bopt_points(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
@@ -73,14 +95,7 @@ AxisBox bopt_points(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
     s.projected[i] = Vec2(u.dot(p), w.dot(p));
   }
   const std::size_t m = convex_hull_2d(s.projected);
-  const Rect2 rect = min_area_rect(std::span<const Vec2>(s.projected.data(), m));
-  AxisBox box;
-  box.axes.col(0) = a;
-  box.axes.col(1) = rect.axis.x() * u + rect.axis.y() * w;
-  box.axes.col(2) = a.cross(box.axes.col(1));
-  box.lo = Vec3(lo, rect.min.x(), rect.min.y());
-  box.hi = Vec3(hi, rect.max.x(), rect.max.y());
-  return box;
+  return box_from(frame, min_area_rect(std::span<const Vec2>(s.projected.data(), m)), lo, hi);
 }
 
 }  // namespace
@@ -125,20 +140,8 @@ AxisBox bopt(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
   // a climb can stop at a vertex whose better neighbour ties with it in floating point (a vertex
   // bulging out of a flat facet by less than the rounding), far from the true extreme. The scan
   // costs less than the silhouette pass above (V < E).
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (const Vec3& p : g.local) {
-    const double t = a.dot(p);
-    lo = std::min(lo, t);
-    hi = std::max(hi, t);
-  }
-
-  AxisBox box;
-  box.axes.col(0) = a;
-  box.axes.col(1) = rect.axis.x() * u + rect.axis.y() * w;
-  box.axes.col(2) = a.cross(box.axes.col(1));
-  box.lo = Vec3(lo, rect.min.x(), rect.min.y());
-  box.hi = Vec3(hi, rect.max.x(), rect.max.y());
-  return box;
+  const Extent along = extent_along(g, a);
+  return box_from(frame, rect, along.lo, along.hi);
 }
 
 AxisBox improve(const HullGeometry& g, AxisBox box, BoptScratch& scratch, double min_gain, int max_rounds,

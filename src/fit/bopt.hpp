@@ -30,6 +30,12 @@ struct HullGeometry {
 // (a local maximum of a linear function over a convex polytope's graph is global).
 [[nodiscard]] std::uint32_t extreme_vertex(const HullGeometry& g, const Vec3& dir, std::uint32_t start);
 
+// min and max of v . p over the geometry's points (a scan: see bopt() for why not hill climbing).
+struct Extent {
+  double lo, hi;
+};
+[[nodiscard]] Extent extent_along(const HullGeometry& g, const Vec3& v);
+
 // A box given by orthonormal right-handed axes and its extents along them (local frame).
 struct AxisBox {
   Mat3 axes = Mat3::Identity();

@@ -49,15 +49,10 @@ VolumeBound::VolumeBound(const HullGeometry& g, const AxisBox& bstar) : g_(g) {
 }
 
 double VolumeBound::operator()(const Vec3& v) const {
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (const Vec3& p : g_.local) {
-    const double t = v.dot(p);
-    lo = std::min(lo, t);
-    hi = std::max(hi, t);
-  }
+  const Extent along = extent_along(g_, v);
   double projected = 0.0;
   for (int i = 0; i < count_; ++i) projected = std::max(projected, std::abs(normals_[i].dot(v)));
-  return (hi - lo) * projected / v.squaredNorm();
+  return (along.hi - along.lo) * projected / v.squaredNorm();
 }
 
 bool VolumeBound::excludes(const Vec3& v, double volume) const {

@@ -73,6 +73,8 @@ struct FarthestFromLine {
 // Andrew's monotone chain: reorders the first entries of `points` into the convex hull in
 // counter-clockwise order, without collinear points, and returns their number (0 for an
 // empty input, 1 when all points coincide, 2 for collinear points).
+// The overload with `chain` (scratch, any content) allocates nothing once it has grown.
 [[nodiscard]] std::size_t convex_hull_2d(std::span<Vec2> points);
+[[nodiscard]] std::size_t convex_hull_2d(std::span<Vec2> points, std::vector<Vec2>& chain);
 
 }  // namespace tightbvh

@@ -94,7 +94,7 @@ AxisBox bopt_points(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
     hi = std::max(hi, t);
     s.projected[i] = Vec2(u.dot(p), w.dot(p));
   }
-  const std::size_t m = convex_hull_2d(s.projected);
+  const std::size_t m = convex_hull_2d(s.projected, s.chain);
   return box_from(frame, min_area_rect(std::span<const Vec2>(s.projected.data(), m)), lo, hi);
 }
 
@@ -133,7 +133,7 @@ AxisBox bopt(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
       s.projected.emplace_back(u.dot(p), w.dot(p));
     }
   }
-  const std::size_t m = convex_hull_2d(s.projected);
+  const std::size_t m = convex_hull_2d(s.projected, s.chain);
   const Rect2 rect = min_area_rect(std::span<const Vec2>(s.projected.data(), m));
 
   // The extent along a by a scan of all hull vertices, not by hill climbing on the hull graph:

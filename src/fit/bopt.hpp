@@ -46,6 +46,7 @@ struct AxisBox {
 
 struct BoptScratch {
   std::vector<Vec2> projected;
+  std::vector<Vec2> chain;  // convex_hull_2d's scratch
   std::vector<std::uint32_t> stamp;
   std::vector<double> face_dot;
   std::uint32_t epoch = 0;

@@ -38,14 +38,14 @@ void check_finite(std::span<const Vec3> points) {
 
 // Planar, collinear and single-point sets: a zero-volume box (the thickness is whatever the
 // points have), with the minimum-area rectangle in the plane for planar sets.
-Mat3 degenerate_axes(const ConvexHull3& hull, std::vector<Vec2>& polygon) {
+Mat3 degenerate_axes(const ConvexHull3& hull, std::vector<Vec2>& polygon, std::vector<Vec2>& chain) {
   if (hull.dimension <= 0 || hull.vertices.size() < 2) return Mat3::Identity();
   if (hull.dimension == 1) return fit_detail::frame_from_axis(hull.vertices[1] - hull.vertices[0]);
   const Mat3 frame = fit_detail::frame_from_axis(hull.plane_normal);
   const Vec3 u = frame.col(1), w = frame.col(2);
   polygon.clear();
   for (const Vec3& p : hull.vertices) polygon.emplace_back(u.dot(p - hull.vertices[0]), w.dot(p - hull.vertices[0]));
-  const std::size_t m = convex_hull_2d(polygon);
+  const std::size_t m = convex_hull_2d(polygon, chain);
   const Rect2 rect = min_area_rect(std::span<const Vec2>(polygon.data(), m));
   Mat3 axes;
   axes.col(0) = rect.axis.x() * u + rect.axis.y() * w;
@@ -168,7 +168,7 @@ Obb fit_checked(std::span<const Vec3> points, std::span<const Vec3> triangle_cor
   } else {
     convex_hull(points, s.hull, s.hull_workspace);
     s.last_hull_vertices = s.hull.vertices.size();
-    if (s.hull.dimension < 3) return box_with_axes(points, degenerate_axes(s.hull, s.polygon), origin);
+    if (s.hull.dimension < 3) return box_with_axes(points, degenerate_axes(s.hull, s.polygon, s.bopt.chain), origin);
     s.geometry.reset(s.hull, origin);
   }
   Mat3 axes;

@@ -828,11 +828,15 @@ FarthestFromLine farthest_from_line(std::span<const Vec3> points, const Vec3& th
 }
 
 std::size_t convex_hull_2d(std::span<Vec2> points) {
+  std::vector<Vec2> chain;
+  return convex_hull_2d(points, chain);
+}
+
+std::size_t convex_hull_2d(std::span<Vec2> points, std::vector<Vec2>& chain) {
   const std::size_t n = points.size();
   if (n == 0) return 0;
   std::sort(points.begin(), points.end(),
             [](const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
-  thread_local std::vector<Vec2> chain;
   chain.resize(2 * n + 1);
   // The exact sign, not the rounded cross product: with rounded signs a nearly collinear point
   // can be kept by both the lower and the upper chain, and the chain outgrows the input.

@@ -117,8 +117,9 @@ inline void add_triple_product(Expansion<N>& out, double s, double a, double b, 
 }
 
 // ---------------------------------------------------------------- orient2d
-// Sign of (b - a) x (c - a) for 2D points given as (ax, ay), ...
-[[nodiscard]] inline int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) {
+// (b - a) x (c - a) for 2D points given as (ax, ay), ..., exactly, as an expansion.
+[[nodiscard]] inline Expansion<13> orient2d_expansion(double ax, double ay, double bx, double by, double cx,
+                                                      double cy) {
   // (b - a) x (c - a) = a x b + b x c + c x a.
   Expansion<13> e;
   const auto add_product = [&e](double s, double u, double v) {
@@ -130,7 +131,34 @@ inline void add_triple_product(Expansion<N>& out, double s, double a, double b, 
   add_product(1, ax, by), add_product(-1, ay, bx);
   add_product(1, bx, cy), add_product(-1, by, cx);
   add_product(1, cx, ay), add_product(-1, cy, ax);
-  return e.sign();
+  return e;
+}
+
+// Sign of (b - a) x (c - a).
+[[nodiscard]] inline int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) {
+  return orient2d_expansion(ax, ay, bx, by, cx, cy).sign();
+}
+
+// The value of (b - a) x (c - a) with a small relative error (the rounded products when the
+// filter bounds their error well below the result, else the exact expansion summed from its
+// smallest component up): accurate even for nearly collinear points, whose rounded value can be
+// pure noise or zero.
+[[nodiscard]] inline double orient2d_value(double ax, double ay, double bx, double by, double cx, double cy) {
+  const double l = (bx - ax) * (cy - ay), r = (by - ay) * (cx - ax);
+  const double det = l - r;
+  if (std::abs(det) > 1e10 * kOrient2dBound * (std::abs(l) + std::abs(r))) return det;  // relative error < 1e-10
+  const Expansion<13> e = orient2d_expansion(ax, ay, bx, by, cx, cy);
+  double sum = 0.0;
+  for (int i = 0; i < e.n; ++i) sum += e.c[i];
+  return sum;
+}
+
+// (b - a) x (c - a) with every component accurate (see orient2d_value): the normal of a sliver
+// triangle, whose rounded cross product can be zero although the triangle is not degenerate.
+[[nodiscard]] inline Vec3 accurate_normal(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return {orient2d_value(a.y(), a.z(), b.y(), b.z(), c.y(), c.z()),
+          orient2d_value(a.z(), a.x(), b.z(), b.x(), c.z(), c.x()),
+          orient2d_value(a.x(), a.y(), b.x(), b.y(), c.x(), c.y())};
 }
 
 [[nodiscard]] inline int orient2d(double ax, double ay, double bx, double by, double cx, double cy) {

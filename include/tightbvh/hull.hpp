@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "tightbvh/aabb.hpp"
 #include "tightbvh/pose.hpp"
 
 namespace tightbvh {
@@ -57,9 +58,31 @@ class HullWorkspace {
 // sets: Quickhull (Barber, Dobkin & Huhdanpaa 1996) with exact orientation predicates, so the
 // vertices are exactly the strictly extreme points (a point inside a face or an edge is not a
 // vertex, one copy of duplicates is) and every input point is on or below every face plane.
-// Throws InputError on an empty set (and may for non-finite coordinates).
+// The dimension is affine_dimension()'s. Throws InputError on an empty set or a non-finite point.
 [[nodiscard]] ConvexHull3 convex_hull(std::span<const Vec3> points);
 void convex_hull(std::span<const Vec3> points, ConvexHull3& out, HullWorkspace& workspace);
+
+// The affine dimension of a finite point set, decided once for every path that needs it (the
+// hull, and the fitters that skip the hull on small sets), so that they agree:
+// - 0 when the extreme pair along the longest bounding-box axis is within rounding of the
+//   coordinates (1e-15 of their magnitude);
+// - 1 when no point is farther than kFlatTolerance * length from the line through that pair;
+// - 2 when no point is farther than kFlatTolerance * length from the plane through that pair
+//   and the point farthest from their line, or when the four extreme points are exactly
+//   coplanar (orient3d == 0);
+// - 3 otherwise: `simplex` is then an exactly non-degenerate tetrahedron of input points.
+// Sets below the tolerances are handled as flat (their boxes still take the thickness from the
+// points, so they contain them); sets above are solid for every caller, however thin.
+// Throws InputError naming the first non-finite point, or on an empty set.
+inline constexpr double kFlatTolerance = 1e-13;
+struct AffineDimension {
+  int dimension = 0;
+  std::array<std::uint32_t, 4> simplex{};  // dimension + 1 of them are meaningful
+  Vec3 direction = Vec3::UnitX();          // unit: the line (dimension >= 1)
+  Vec3 normal = Vec3::UnitZ();             // unit: the plane (dimension >= 2)
+  Aabb bounds;                             // of all the points
+};
+[[nodiscard]] AffineDimension affine_dimension(std::span<const Vec3> points);
 
 // The point of `points` farthest from the line through `through` with unit direction `dir`
 // (the first of equals): its index and squared distance. Probes the affine dimension of a set.

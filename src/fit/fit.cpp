@@ -74,30 +74,6 @@ bool distinct_small(std::span<const Vec3> points, std::size_t limit, std::vector
   return out.size() <= limit;
 }
 
-// True when the set is clearly three-dimensional: convex_hull's dimension test (extreme pair
-// along the longest bounding-box axis, farthest point from that line, farthest from that plane)
-// with a much wider margin, so nearly flat sets still take the hull path and its handling.
-bool clearly_solid(std::span<const Vec3> p) {
-  const Aabb bounds = bounds_of(p);
-  int axis = 0;
-  bounds.extents().maxCoeff(&axis);
-  std::size_t ia = 0, ib = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p[i][axis] < p[ia][axis]) ia = i;
-    if (p[i][axis] > p[ib][axis]) ib = i;
-  }
-  const Vec3 d = p[ib] - p[ia];
-  const double length = d.norm();
-  if (!(length > 1e-9 * bounds.center().cwiseAbs().maxCoeff()) || length == 0.0) return false;
-  const Vec3 dir = d / length;
-  const auto [ic, best] = farthest_from_line(p, p[ia], dir);
-  if (!(std::sqrt(best) > 1e-6 * length)) return false;
-  const Vec3 normal = d.cross(p[ic] - p[ia]).normalized();
-  double height = 0.0;
-  for (const Vec3& q : p) height = std::max(height, std::abs((q - p[ia]).dot(normal)));
-  return height > 1e-6 * length;
-}
-
 // ApproxMinVolBbx (Section 6.3, Fig. 6.2): snap the hull vertices to the 8 corners of their
 // cell of G = Grid(B_eps / 2), B_eps = (eps / 200) B*(S), then the exact box of the snapped hull.
 Mat3 snap_axes(FitWorkspace::Scratch& s, double epsilon) {
@@ -162,7 +138,7 @@ Obb fit_checked(std::span<const Vec3> points, std::span<const Vec3> triangle_cor
   // Hull-based methods.
   if ((options.method == FitMethod::approx || options.method == FitMethod::diameter) &&
       distinct_small(points, options.method == FitMethod::approx ? kSmallSetApprox : kSmallSetDiameter, s.distinct) &&
-      clearly_solid(s.distinct)) {
+      affine_dimension(s.distinct).dimension == 3) {  // the hull's own classification: they agree
     s.geometry.reset_points(s.distinct, origin);  // no hull: Bopt projects every point
     s.last_hull_vertices = s.distinct.size();
   } else {

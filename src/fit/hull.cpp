@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "../predicates.hpp"
 #include "tightbvh/mesh.hpp"
@@ -103,6 +105,7 @@ struct HullWorkspace::State {
   std::vector<std::uint32_t> face_index;   // by face slot: output face
   std::vector<std::uint32_t> group;        // by face slot: union-find of coplanar faces
   std::vector<std::uint32_t> group_best;   // by root: its face with the longest rounded normal
+  std::vector<Vec3> group_normal;          // by root: the unit normal of that face
   std::vector<std::uint32_t> sharp_edges;  // by output vertex: incident edges between two planes
   std::vector<std::uint32_t> degree;
   // Planar sets
@@ -184,7 +187,7 @@ class Quickhull {
       s_.pending.pop_back();
       if (!s_.faces[f].alive || s_.faces[f].outside_size == 0) continue;
       if (++iterations > s_.candidates.size())
-        throw InputError("convex_hull: no progress (non-finite or overflowing coordinates?)");
+        throw InputError("convex_hull: no progress (coordinates too large: overflow?)");
       add_point(f, s_.faces[f].farthest, ++stamp);
     }
   }
@@ -310,15 +313,21 @@ class Quickhull {
   bool triangulate(std::uint32_t plane_face) {
     const Face& reference = s_.faces[plane_face];
     const std::uint32_t plane_id = reference.plane_id;
+    // Drop the largest coordinate of the rounded normal, or, if the reference face projects to a
+    // segment exactly there (a sliver, whose rounded normal can be zero), one where it does not:
+    // a triangle that is not degenerate has a non-degenerate projection on some coordinate plane.
     int drop = 0;
     reference.plane.normal.cwiseAbs().maxCoeff(&drop);
-    const int x = (drop + 1) % 3, y = (drop + 2) % 3;
+    int x = 0, y = 0, flip = 0;
     const auto orient = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
       const Vec3 &pa = p_[a], &pb = p_[b], &pc = p_[c];
       return detail::orient2d(pa[x], pa[y], pb[x], pb[y], pc[x], pc[y]);
     };
-    // The projection's orientation against the true one, from the reference face itself.
-    const int flip = orient(reference.vertex[0], reference.vertex[1], reference.vertex[2]);
+    for (int attempt = 0; attempt < 3 && flip == 0; ++attempt) {
+      x = (drop + attempt + 1) % 3, y = (drop + attempt + 2) % 3;
+      // The projection's orientation against the true one, from the reference face itself.
+      flip = orient(reference.vertex[0], reference.vertex[1], reference.vertex[2]);
+    }
     if (flip == 0) return false;
     auto& poly = s_.polygon;
     while (poly.size() > 3) {
@@ -410,7 +419,9 @@ class Quickhull {
     face.farthest_value = best_value;
     live_ += face.outside_size;
     if (face.outside_size > 0) {
-      s_.pending.emplace_back(best_value / plane.normal.norm(), f);
+      // A sliver's rounded normal can be zero: rank its points last rather than by 0 / 0.
+      const double norm = plane.normal.norm();
+      s_.pending.emplace_back(norm > 0.0 ? best_value / norm : 0.0, f);
       std::push_heap(s_.pending.begin(), s_.pending.end());
     }
   }
@@ -501,7 +512,7 @@ class Quickhull {
       const std::uint32_t next = s_.horizon_from[s_.horizon[e].to];
       // Exact predicates make the horizon a simple cycle; anything else means bad coordinates.
       if (next >= n || s_.horizon[next].from != s_.horizon[e].to || (next == 0) != (i + 1 == n))
-        throw InputError("convex_hull: inconsistent horizon (non-finite or overflowing coordinates?)");
+        throw InputError("convex_hull: inconsistent horizon (coordinates too large: overflow?)");
       e = next;
     }
   }
@@ -628,8 +639,16 @@ bool convert(std::span<const Vec3> points, State& s, ConvexHull3& out) {
     std::uint32_t& best = s.group_best[find_root(s.group, f)];
     if (best == kNone || s.faces[f].plane.normal.squaredNorm() > s.faces[best].plane.normal.squaredNorm()) best = f;
   }
+  // Its normal from the accurate cross product: a group that is a single sliver has a rounded
+  // normal that is noise or zero.
+  s.group_normal.resize(slots);
+  for (std::uint32_t f = 0; f < slots; ++f) {
+    if (!s.faces[f].alive || s.group_best[f] == kNone) continue;
+    const auto& v = s.faces[s.group_best[f]].vertex;
+    s.group_normal[f] = detail::accurate_normal(points[v[0]], points[v[1]], points[v[2]]).normalized();
+  }
   for (std::uint32_t f = 0; f < slots; ++f)
-    if (s.faces[f].alive) out.face_normals.push_back(s.faces[s.group_best[find_root(s.group, f)]].plane.normal.normalized());
+    if (s.faces[f].alive) out.face_normals.push_back(s.group_normal[find_root(s.group, f)]);
   return true;
 }
 
@@ -744,77 +763,99 @@ void convex_hull(std::span<const Vec3> points, ConvexHull3& out, HullWorkspace& 
   if (points.size() > static_cast<std::size_t>(std::numeric_limits<int>::max() / 4))
     throw InputError("convex_hull: too many points");
   State& s = workspace.state();
-
-  // Affine dimension, relative to the extent of the set: two extreme points a, b along the
-  // longest bounding-box axis, the point c farthest from line ab, the point d farthest from
-  // plane abc.
-  Aabb bounds = bounds_of(points);
-  const Vec3 origin = bounds.center();
-  const Vec3 ext = bounds.extents();
-  int axis = 0;
-  ext.maxCoeff(&axis);
-  std::size_t ia = 0, ib = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (points[i][axis] < points[ia][axis]) ia = i;
-    if (points[i][axis] > points[ib][axis]) ib = i;
-  }
-  const double length = (points[ib] - points[ia]).norm();
-  const double tiny = 1e-13;
-  // Differences at the rounding level of the coordinates themselves count as a single point.
-  if (!(length > 1e-15 * origin.cwiseAbs().maxCoeff()) || length == 0.0) {
+  const AffineDimension shape = affine_dimension(points);
+  const std::uint32_t ia = shape.simplex[0];
+  if (shape.dimension == 0) {
     out.dimension = 0;
     out.vertices.push_back(points[ia]);
-    out.input_index.push_back(static_cast<std::uint32_t>(ia));
+    out.input_index.push_back(ia);
     return;
   }
-  const Vec3 dir = (points[ib] - points[ia]) / length;
-  const auto [ic, best] = farthest_from_line(points, points[ia], dir);
-  if (!(std::sqrt(best) > tiny * length)) {
-    // Collinear: the two extreme points along the line.
-    std::size_t lo = ia, hi = ia;
+  if (shape.dimension == 1) {
+    // The two extreme points along the line.
+    const Vec3& dir = shape.direction;
+    std::uint32_t lo = ia, hi = ia;
+    double t_lo = 0.0, t_hi = 0.0;
     for (std::size_t i = 0; i < points.size(); ++i) {
       const double t = (points[i] - points[ia]).dot(dir);
-      if (t < (points[lo] - points[ia]).dot(dir)) lo = i;
-      if (t > (points[hi] - points[ia]).dot(dir)) hi = i;
+      if (t < t_lo) t_lo = t, lo = static_cast<std::uint32_t>(i);
+      if (t > t_hi) t_hi = t, hi = static_cast<std::uint32_t>(i);
     }
     out.dimension = 1;
     out.vertices = {points[lo], points[hi]};
-    out.input_index = {static_cast<std::uint32_t>(lo), static_cast<std::uint32_t>(hi)};
+    out.input_index = {lo, hi};
     return;
   }
-  const Vec3 normal = (points[ib] - points[ia]).cross(points[ic] - points[ia]).normalized();
-  double height = 0.0;
-  std::size_t id = ia;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const double h = std::abs((points[i] - points[ia]).dot(normal));
-    if (h > height) height = h, id = i;
-  }
-  const std::array<std::uint32_t, 4> simplex{static_cast<std::uint32_t>(ia), static_cast<std::uint32_t>(ib),
-                                             static_cast<std::uint32_t>(ic), static_cast<std::uint32_t>(id)};
-  if (!(height > tiny * length) ||
-      detail::orient3d(points[ia], points[ib], points[ic], points[id]) == 0) {
-    planar_hull(points, origin, normal, s, out);
+  if (shape.dimension == 2) {
+    planar_hull(points, shape.bounds.center(), shape.normal, s, out);
     return;
   }
 
   s.candidates.resize(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) s.candidates[i] = static_cast<std::uint32_t>(i);
-  Quickhull hull(points, ext, s);
-  hull.run(simplex);
+  Quickhull hull(points, shape.bounds.extents(), s);
+  hull.run(shape.simplex);
   if (!hull.remove_non_extreme_vertices() || !convert(points, s, out)) {
     // Some vertices lie inside a flat facet or an edge of the hull (ties for the farthest point
-    // on coplanar sets): rebuild from the strictly extreme vertices only, whose hull is the same
-    // polytope and has no other vertices.
+    // on coplanar sets) and removing them locally failed: rebuild from the strictly extreme
+    // vertices only, whose hull is the same polytope and has no other vertices. A failed local
+    // removal may have left the faces half edited, so their hull is first built anew.
+    hull.run(shape.simplex);
+    if (convert(points, s, out)) {
+      out.dimension = 3;
+      build_adjacency(out, s);
+      return;
+    }
     keep_extreme_vertices(out, s);
     std::array<std::uint32_t, 4> t{};
+    // The strictly extreme points of a solid set span it, so both failures are internal errors.
     if (!exact_simplex(points, s.candidates, t))
-      throw InputError("convex_hull: no solid simplex among the extreme points (non-finite coordinates?)");
+      throw std::logic_error("convex_hull: no solid simplex among the strictly extreme points");
     hull.run(t);
-    if (!convert(points, s, out))
-      throw InputError("convex_hull: non-extreme vertex after the rebuild (non-finite coordinates?)");
+    if (!convert(points, s, out)) throw std::logic_error("convex_hull: a vertex is not extreme after the rebuild");
   }
   out.dimension = 3;
   build_adjacency(out, s);
+}
+
+AffineDimension affine_dimension(std::span<const Vec3> points) {
+  if (points.empty()) throw InputError("affine_dimension: empty point set");
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (!points[i].allFinite())
+      throw InputError("point " + std::to_string(i) + " has a non-finite coordinate (NaN or Inf)");
+  AffineDimension out;
+  // Two extreme points a, b along the longest bounding-box axis, the point c farthest from line
+  // ab, the point d farthest from plane abc.
+  const Aabb& bounds = out.bounds = bounds_of(points);
+  int axis = 0;
+  bounds.extents().maxCoeff(&axis);
+  std::size_t ia = 0, ib = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (points[i][axis] < points[ia][axis]) ia = i;
+    if (points[i][axis] > points[ib][axis]) ib = i;
+  }
+  out.simplex = {static_cast<std::uint32_t>(ia), static_cast<std::uint32_t>(ib), 0, 0};
+  const double length = (points[ib] - points[ia]).norm();
+  // Differences at the rounding level of the coordinates themselves count as a single point.
+  if (!(length > 1e-15 * bounds.center().cwiseAbs().maxCoeff()) || length == 0.0) return out;
+  out.direction = (points[ib] - points[ia]) / length;
+  const auto [ic, best] = farthest_from_line(points, points[ia], out.direction);
+  out.simplex[2] = static_cast<std::uint32_t>(ic);
+  out.dimension = 1;
+  if (!(std::sqrt(best) > kFlatTolerance * length)) return out;
+  out.normal = (points[ib] - points[ia]).cross(points[ic] - points[ia]).normalized();
+  double height = 0.0;
+  std::size_t id = ia;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double h = std::abs((points[i] - points[ia]).dot(out.normal));
+    if (h > height) height = h, id = i;
+  }
+  out.simplex[3] = static_cast<std::uint32_t>(id);
+  out.dimension = 2;
+  if (!(height > kFlatTolerance * length) || detail::orient3d(points[ia], points[ib], points[ic], points[id]) == 0)
+    return out;
+  out.dimension = 3;
+  return out;
 }
 
 FarthestFromLine farthest_from_line(std::span<const Vec3> points, const Vec3& through, const Vec3& dir) {

@@ -117,7 +117,7 @@ void add_build(CLI::App& app) {
       const TreeCheck check = validate(result.tree, mesh);
       if (!check.ok()) throw std::runtime_error("invalid tree: " + check.errors[0]);
     }
-    if (!args->output.empty()) save(result.tree, args->output);
+    if (!args->output.empty()) save_tree(result.tree, args->output);
     std::size_t box_count = 0;
     if (!args->boxes_obj.empty()) {
       if (args->level > result.stats.tree.depth_max)
@@ -160,7 +160,7 @@ void add_inspect(CLI::App& app) {
   cmd->add_option("--mesh", args->mesh, "also validate the tree against this mesh");
   cmd->add_flag("--json", args->json, "print JSON instead of text");
   cmd->callback([args] {
-    const Tree tree = load(args->tree);
+    const Tree tree = load_tree(args->tree);
     const TreeStats s = tree_stats(tree);
     if (!args->mesh.empty()) {
       const TreeCheck check = validate(tree, load_mesh(args->mesh));

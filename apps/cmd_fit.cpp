@@ -49,7 +49,7 @@ void add_fit_command(CLI::App& app) {
                        "' (expected aabb, pca, pca-vertex, diameter, approx, approx-snap, exact or all)");
     }
     const Mesh mesh = load_mesh(args->mesh);
-    (void)validate(mesh, args->mesh);
+    (void)check_mesh(mesh, args->mesh);
     std::vector<Vec3> corners;
     corners.reserve(mesh.triangles.size() * 3);
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)

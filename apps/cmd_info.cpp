@@ -21,8 +21,8 @@ void add_info_command(CLI::App& app) {
   cmd->callback([args] {
     nlohmann::json out = nlohmann::json::array();
     for (const std::string& path : args->meshes) {
-      // load_mesh validates; validate() again is cheap and gives the statistics.
-      const MeshStats s = validate(load_mesh(path), path);
+      // load_mesh validates; check_mesh() again is cheap and gives the statistics.
+      const MeshStats s = check_mesh(load_mesh(path), path);
       const auto vec = [](const Vec3& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); };
       if (args->json) {
         out.push_back({{"mesh", path},

@@ -5,7 +5,7 @@
 
 namespace tightbvh {
 
-MeshStats validate(const Mesh& mesh, const std::string& source) {
+MeshStats check_mesh(const Mesh& mesh, const std::string& source) {
   if (mesh.triangles.empty()) throw InputError(source + ": no triangles");
   MeshStats stats;
   stats.vertices = mesh.vertices.size();

@@ -4,7 +4,7 @@
 #include "fcl_adapter.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
-#include "tightbvh/fcl_export.hpp"
+#include "tightbvh/fcl/export.hpp"
 
 namespace tightbvh::bench {
 namespace {

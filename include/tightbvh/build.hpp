@@ -55,7 +55,7 @@ struct BuildResult {
 };
 
 // Pure; the result is the same bit for bit for any `threads`. Throws InputError for an invalid
-// mesh (see validate(const Mesh&)), more than 2^32 - 2 triangles or leaf_size == 0.
+// mesh (see check_mesh), more than 2^32 - 2 triangles or leaf_size == 0.
 [[nodiscard]] Tree build(const Mesh& mesh, const BuildOptions& options = {});
 [[nodiscard]] BuildResult build_with_stats(const Mesh& mesh, const BuildOptions& options = {});
 

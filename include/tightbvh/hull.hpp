@@ -8,11 +8,9 @@
 #include <vector>
 
 #include "tightbvh/aabb.hpp"
-#include "tightbvh/pose.hpp"
+#include "tightbvh/math.hpp"
 
 namespace tightbvh {
-
-using Vec2 = Eigen::Vector2d;
 
 // An edge of a 3D hull: its two end vertices and the two faces that share it.
 struct HullEdge {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tightbvh/aabb.hpp"
+#include "tightbvh/error.hpp"
 
 namespace tightbvh {
 
@@ -21,12 +22,6 @@ struct Mesh {
     const Triangle& t = triangles[triangle];
     return {vertices[t[0]], vertices[t[1]], vertices[t[2]]};
   }
-};
-
-// Every error about input data: the message names the source (file or "mesh") and the problem.
-class InputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
 };
 
 struct MeshStats {
@@ -43,11 +38,11 @@ struct MeshStats {
 // and PLY keep the file's vertices (OFF also their order).
 // Throws InputError "<path>: <problem>" for a missing file, a directory, an unknown format, an
 // empty, malformed or truncated file, non-finite coordinates, out-of-range indices or no
-// triangles. The result has passed validate(); degenerate triangles are kept.
+// triangles. The result has passed check_mesh(); degenerate triangles are kept.
 [[nodiscard]] Mesh load_mesh(const std::filesystem::path& path);
 
 // Throws InputError on NaN/Inf coordinates, indices out of range or zero triangles.
 // `source` names the mesh in messages.
-MeshStats validate(const Mesh& mesh, const std::string& source = "mesh");
+MeshStats check_mesh(const Mesh& mesh, const std::string& source = "mesh");
 
 }  // namespace tightbvh

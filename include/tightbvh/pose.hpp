@@ -1,12 +1,10 @@
 #pragma once
 // A rigid transform x -> rotation * x + translation.
-#include <Eigen/Core>
 #include <Eigen/Geometry>
 
-namespace tightbvh {
+#include "tightbvh/math.hpp"
 
-using Vec3 = Eigen::Vector3d;
-using Mat3 = Eigen::Matrix3d;
+namespace tightbvh {
 
 struct Pose {
   Mat3 rotation = Mat3::Identity();

@@ -32,7 +32,7 @@ inline constexpr std::uint32_t kTreeFormatVersion = 1;
 [[nodiscard]] Tree deserialize(std::span<const std::byte> bytes, const std::string& source = "tree");
 
 // Throws InputError naming the file if it cannot be written / read, or is not a valid tree.
-void save(const Tree& tree, const std::filesystem::path& path);
-[[nodiscard]] Tree load(const std::filesystem::path& path);
+void save_tree(const Tree& tree, const std::filesystem::path& path);
+[[nodiscard]] Tree load_tree(const std::filesystem::path& path);
 
 }  // namespace tightbvh

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "../predicates.hpp"
+#include "../geometry/predicates.hpp"
 
 namespace tightbvh {
 namespace {

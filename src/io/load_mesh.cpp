@@ -83,7 +83,7 @@ Mesh load_mesh(const std::filesystem::path& path) {
   // assimp's default logger is the silent NullLogger; we never create the DefaultLogger, so
   // nothing reaches stdout/stderr. No SortByPType: it rejects valid files that contain an empty
   // sub-mesh (assimp's own STL/triangle_with_empty_solid.stl); points and lines are skipped below.
-  // No ValidateDataStructure for the same reason: our checks and validate() cover what it would.
+  // No ValidateDataStructure for the same reason: our checks and check_mesh() cover what it would.
   Assimp::Importer importer;
   const aiScene* scene = nullptr;
   if (format == io::Format::off) {
@@ -157,7 +157,7 @@ Mesh load_mesh(const std::filesystem::path& path) {
                      std::to_string(mesh.triangles.size()) + " (non-simple or non-planar polygons?)");
   if (mesh.triangles.empty())
     throw InputError(name + ": no triangles: the file holds no faces (only points, lines or nothing)");
-  (void)validate(mesh, name);
+  (void)check_mesh(mesh, name);
   return mesh;
 }
 

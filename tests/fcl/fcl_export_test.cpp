@@ -13,7 +13,7 @@
 
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
-#include "tightbvh/fcl_export.hpp"
+#include "tightbvh/fcl/export.hpp"
 
 namespace tightbvh {
 namespace {
@@ -45,7 +45,7 @@ const Mesh& patch(const std::string& name, std::size_t count = 600) {
 
 // The fitters whose trees are exported in these tests. approx-snap is left out: its boxes take
 // the same export path as exact's, but each node costs an exact box of a snapped hull up to 8x
-// larger (seconds for a 20-triangle patch); its containment is tested in tests/fit and tests/build.
+// larger (seconds for a 20-triangle patch); its containment is tested in tests/fit and tests/tree.
 std::vector<FitMethod> available_fitters() {
   return {FitMethod::aabb, FitMethod::pca,  FitMethod::pca_vertex, FitMethod::diameter,
           FitMethod::approx, FitMethod::exact};

@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "../../src/fit/fitters.hpp"
+#include "fit/fitters.hpp"
 #include "test_util.hpp"
 
 namespace tightbvh {

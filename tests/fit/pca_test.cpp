@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "../../src/fit/pca.hpp"
+#include "fit/pca.hpp"
 #include "test_util.hpp"
 
 namespace tightbvh {

@@ -122,7 +122,7 @@ TEST(LoadMesh, ShippedMeshesLoadWithTheirHeaderCounts) {
   for (const fs::path& path : meshes) {
     SCOPED_TRACE(path.string());
     const Mesh mesh = load_mesh(path);
-    const MeshStats stats = validate(mesh, path.string());
+    const MeshStats stats = check_mesh(mesh, path.string());
     EXPECT_GE(stats.triangles, 2000u);
     EXPECT_LE(stats.triangles, 30000u);
     if (path.extension() == ".off") {
@@ -220,7 +220,7 @@ TEST(LoadMeshAssimpCorpus, ValidModelsLoadWithIndependentCounts) {
     const fs::path path = dir / key;
     Mesh mesh;
     ASSERT_NO_THROW(mesh = load_mesh(path));
-    const MeshStats stats = validate(mesh, key);
+    const MeshStats stats = check_mesh(mesh, key);
     const std::string folder = key.substr(0, 3);
     if (folder == "OFF") {
       const Counts expected = count_off(path);
@@ -237,7 +237,7 @@ TEST(LoadMeshAssimpCorpus, ValidModelsLoadWithIndependentCounts) {
   }
   // Counted by hand from the file text.
   const auto counts = [&](const std::string& key) {
-    const MeshStats s = validate(load_mesh(dir / key));
+    const MeshStats s = check_mesh(load_mesh(dir / key));
     return std::pair{s.vertices, s.triangles};
   };
   using P = std::pair<std::size_t, std::size_t>;
@@ -293,7 +293,7 @@ TEST(LoadMeshCgalCorpus, EverySurfaceMeshLoads) {
     Mesh mesh;
     EXPECT_NO_THROW(mesh = load_mesh(path));
     if (mesh.triangles.empty()) continue;
-    const MeshStats stats = validate(mesh, name);
+    const MeshStats stats = check_mesh(mesh, name);
     if (path.extension() == ".off") {
       const Counts expected = count_off(path);
       EXPECT_EQ(stats.vertices, expected.vertices);
@@ -359,13 +359,13 @@ TEST_F(LoadMeshBadFiles, WellFormedFilesInEveryFormatLoad) {
   for (const auto& [name, bytes] : std::map<std::string, std::string>{
            {"t.off", tetra_off}, {"t.obj", tetra_obj}, {"t.ply", tetra_ply}, {"noextension", tetra_off}}) {
     SCOPED_TRACE(name);
-    const MeshStats s = validate(load_mesh(write(name, bytes)));
+    const MeshStats s = check_mesh(load_mesh(write(name, bytes)));
     EXPECT_EQ(s.vertices, 4u);
     EXPECT_EQ(s.triangles, 4u);
     EXPECT_EQ(s.bounds.max, Vec3(1, 1, 1));
   }
   // Two binary STL triangles share an edge: assimp's six corners weld back to four points.
-  const MeshStats s = validate(load_mesh(write("two.stl", binary_stl(2, two_triangles))));
+  const MeshStats s = check_mesh(load_mesh(write("two.stl", binary_stl(2, two_triangles))));
   EXPECT_EQ(s.vertices, 4u);
   EXPECT_EQ(s.triangles, 2u);
 }
@@ -389,7 +389,7 @@ TEST_F(LoadMeshBadFiles, OffCoordinatesKeepDoublePrecision) {
 
 TEST_F(LoadMeshBadFiles, DegenerateTrianglesAreKeptAndCounted) {
   const Mesh mesh = load_mesh(write("degenerate.off", replace(tetra_off, "4 4 0", "4 5 0") + "3 0 1 1\n"));
-  const MeshStats s = validate(mesh);
+  const MeshStats s = check_mesh(mesh);
   EXPECT_EQ(s.triangles, 5u);
   EXPECT_EQ(s.degenerate_triangles, 1u);
 }

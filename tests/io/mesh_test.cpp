@@ -12,7 +12,7 @@ Mesh unit_tetrahedron() {
 }
 
 TEST(Validate, CountsAndBounds) {
-  const MeshStats s = validate(unit_tetrahedron());
+  const MeshStats s = check_mesh(unit_tetrahedron());
   EXPECT_EQ(s.vertices, 4u);
   EXPECT_EQ(s.triangles, 4u);
   EXPECT_EQ(s.degenerate_triangles, 0u);
@@ -22,17 +22,17 @@ TEST(Validate, CountsAndBounds) {
 TEST(Validate, RejectsNonFiniteAndOutOfRange) {
   Mesh nan = unit_tetrahedron();
   nan.vertices[2].y() = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_THROW((void)validate(nan), InputError);
+  EXPECT_THROW((void)check_mesh(nan), InputError);
   Mesh out_of_range = unit_tetrahedron();
   out_of_range.triangles[1][2] = 4;
-  EXPECT_THROW((void)validate(out_of_range), InputError);
-  EXPECT_THROW((void)validate(Mesh{}), InputError);
+  EXPECT_THROW((void)check_mesh(out_of_range), InputError);
+  EXPECT_THROW((void)check_mesh(Mesh{}), InputError);
 }
 
 TEST(Validate, CountsDegenerateTriangles) {
   Mesh m = unit_tetrahedron();
   m.triangles.push_back({1, 1, 2});
-  EXPECT_EQ(validate(m).degenerate_triangles, 1u);
+  EXPECT_EQ(check_mesh(m).degenerate_triangles, 1u);
 }
 
 }  // namespace

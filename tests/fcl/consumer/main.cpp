@@ -1,6 +1,6 @@
 // A project outside the tree that exports a tree into FCL through the installed package.
 #include <tightbvh/build.hpp>
-#include <tightbvh/fcl_export.hpp>
+#include <tightbvh/fcl/export.hpp>
 
 #include <cstdio>
 

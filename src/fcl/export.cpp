@@ -1,4 +1,4 @@
-#include "tightbvh/fcl_export.hpp"
+#include "tightbvh/fcl/export.hpp"
 
 #include <algorithm>
 #include <array>

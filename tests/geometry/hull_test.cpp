@@ -1,6 +1,6 @@
-// Tests of the convex hulls and rotating calipers (src/fit/hull.cpp, src/fit/min_rect.cpp).
+// Tests of the convex hulls and rotating calipers (src/geometry/hull.cpp, src/geometry/min_rect.cpp).
 // The 3D hull (our Quickhull) is checked exactly: against a brute-force set of extreme points on
-// small degenerate sets, and against qhull (tests/fit/qhull_oracle.cpp) on meshes.
+// small degenerate sets, and against qhull (bench/oracles/qhull_oracle.cpp) on meshes.
 #include "tightbvh/hull.hpp"
 
 #include <gtest/gtest.h>
@@ -19,10 +19,10 @@
 #include <set>
 #include <string>
 
-#include "../../src/predicates.hpp"
-#include "../build/derived_meshes.hpp"
+#include "geometry/predicates.hpp"
+#include "../tree/derived_meshes.hpp"
 #include "qhull_oracle.hpp"
-#include "test_util.hpp"
+#include "../fit/test_util.hpp"
 #include "tightbvh/fit.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/min_rect.hpp"
@@ -671,9 +671,9 @@ void expect_consistent_hull(std::span<const Vec3> points, HullWorkspace& workspa
 }
 
 // Node sets of twice-subdivided shipped meshes on which the hull threw "no solid simplex among
-// the extreme points" (tests/fit/data/sliver_hull_nodes/README.md).
+// the extreme points" (tests/geometry/data/sliver_hull_nodes/README.md).
 TEST(Hull3, SliverFaceNodesOfSubdividedMeshes) {
-  const auto folder = test::source_dir() / "tests/fit/data/sliver_hull_nodes";
+  const auto folder = test::source_dir() / "tests/geometry/data/sliver_hull_nodes";
   std::size_t files = 0;
   HullWorkspace workspace;
   for (const auto& entry : std::filesystem::directory_iterator(folder)) {

@@ -120,7 +120,7 @@ Tree deserialize(std::span<const std::byte> bytes, const std::string& source) {
   return tree;
 }
 
-void save(const Tree& tree, const std::filesystem::path& path) {
+void save_tree(const Tree& tree, const std::filesystem::path& path) {
   const std::vector<std::byte> bytes = serialize(tree);
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) throw InputError(path.string() + ": cannot open for writing");
@@ -129,7 +129,7 @@ void save(const Tree& tree, const std::filesystem::path& path) {
   if (!out) throw InputError(path.string() + ": write failed");
 }
 
-Tree load(const std::filesystem::path& path) {
+Tree load_tree(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw InputError(path.string() + ": cannot open");
   const std::streamoff size = in.tellg();

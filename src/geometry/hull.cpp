@@ -5,7 +5,7 @@
 // monotone chain.
 //
 // Robustness: a point is above a face only when orient3d is strictly positive, evaluated
-// exactly (src/predicates.hpp). The hull under construction is then always convex in exact
+// exactly (src/geometry/predicates.hpp). The hull under construction is then always convex in exact
 // arithmetic, the faces a point sees form a disk whose boundary (the horizon) is a simple cycle,
 // and the new faces of the cone are never degenerate. Floating point only ranks the outside
 // points of a face (to pick the farthest) and gives the face normals.
@@ -17,7 +17,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "../predicates.hpp"
+#include "predicates.hpp"
 #include "tightbvh/mesh.hpp"
 
 namespace tightbvh {

@@ -161,7 +161,7 @@ class Builder {
 }  // namespace
 
 Tree build(const Mesh& mesh, const BuildOptions& options) {
-  (void)validate(mesh, "mesh");
+  (void)check_mesh(mesh, "mesh");
   if (mesh.triangles.size() >= std::numeric_limits<Index>::max())
     throw InputError("build: more than 2^32 - 2 triangles");
   if (options.leaf_size == 0) throw InputError("build: leaf_size must be at least 1");

@@ -53,8 +53,8 @@ TEST(Serialize, RoundTripIsExact) {
   const Mesh mesh = elephant();
   const Tree tree = elephant_tree(mesh);
   const auto path = temp_file("roundtrip.tree");
-  save(tree, path);
-  const Tree loaded = load(path);
+  save_tree(tree, path);
+  const Tree loaded = load_tree(path);
   ASSERT_EQ(loaded.nodes.size(), tree.nodes.size());
   EXPECT_EQ(std::memcmp(loaded.nodes.data(), tree.nodes.data(), tree.nodes.size() * sizeof(Node)), 0);
   EXPECT_EQ(loaded.triangle_order, tree.triangle_order);
@@ -140,13 +140,13 @@ TEST(Serialize, LoadNamesTheFile) {
   bytes.resize(bytes.size() / 3);
   write_bytes(path, bytes);
   try {
-    (void)load(path);
+    (void)load_tree(path);
     ADD_FAILURE() << "truncated file accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(path.string() + ": truncated"), std::string::npos) << e.what();
   }
   std::filesystem::remove(path);
-  EXPECT_THROW((void)load(temp_file("does-not-exist.tree")), InputError);
+  EXPECT_THROW((void)load_tree(temp_file("does-not-exist.tree")), InputError);
 }
 
 TEST(Serialize, EveryTruncationIsRejected) {

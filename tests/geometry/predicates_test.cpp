@@ -2,7 +2,7 @@
 // integer arithmetic on nearly (and exactly) coplanar / collinear grid points. The exact
 // expansion path is also called directly on coordinates offset by 2^45, where the products it
 // sums are ~2^135 and cancel down to the small determinant.
-#include "../src/predicates.hpp"
+#include "geometry/predicates.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,10 @@
 #include "tightbvh/mesh.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
+#include <unordered_map>
 
 namespace tightbvh {
 
@@ -33,6 +36,28 @@ MeshStats check_mesh(const Mesh& mesh, const std::string& source) {
     if ((b - a).cross(c - a).squaredNorm() == 0.0) ++stats.degenerate_triangles;
   }
   return stats;
+}
+
+Mesh subdivide_midpoints(const Mesh& mesh) {
+  Mesh out;
+  out.vertices = mesh.vertices;
+  out.triangles.reserve(mesh.triangles.size() * 4);
+  std::unordered_map<std::uint64_t, std::uint32_t> midpoint;
+  midpoint.reserve(mesh.triangles.size() * 2);
+  const auto mid = [&](std::uint32_t a, std::uint32_t b) {
+    const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+    const auto [it, inserted] = midpoint.try_emplace(key, static_cast<std::uint32_t>(out.vertices.size()));
+    if (inserted) out.vertices.push_back(0.5 * (mesh.vertices[a] + mesh.vertices[b]));
+    return it->second;
+  };
+  for (const Triangle& t : mesh.triangles) {
+    const std::uint32_t ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
+    out.triangles.push_back({t[0], ab, ca});
+    out.triangles.push_back({ab, t[1], bc});
+    out.triangles.push_back({ca, bc, t[2]});
+    out.triangles.push_back({ab, bc, ca});
+  }
+  return out;
 }
 
 }  // namespace tightbvh

@@ -253,29 +253,6 @@ int auto_sweep(const std::vector<std::filesystem::path>& meshes, unsigned thread
 
 // ------------------------------------------------------------------ scale
 
-// Loop subdivision without smoothing: each triangle into four, midpoints shared by edge.
-Mesh subdivide(const Mesh& mesh) {
-  Mesh out;
-  out.vertices = mesh.vertices;
-  out.triangles.reserve(mesh.triangles.size() * 4);
-  std::unordered_map<std::uint64_t, std::uint32_t> midpoint;
-  midpoint.reserve(mesh.triangles.size() * 2);
-  const auto mid = [&](std::uint32_t a, std::uint32_t b) {
-    const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
-    const auto [it, inserted] = midpoint.try_emplace(key, static_cast<std::uint32_t>(out.vertices.size()));
-    if (inserted) out.vertices.push_back(0.5 * (mesh.vertices[a] + mesh.vertices[b]));
-    return it->second;
-  };
-  for (const Triangle& t : mesh.triangles) {
-    const std::uint32_t ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
-    out.triangles.push_back({t[0], ab, ca});
-    out.triangles.push_back({ab, t[1], bc});
-    out.triangles.push_back({ca, bc, t[2]});
-    out.triangles.push_back({ab, bc, ca});
-  }
-  return out;
-}
-
 double peak_mib() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
@@ -287,7 +264,7 @@ int scale(const std::filesystem::path& path, std::size_t triangles, const std::s
   const auto fitter = parse_fitter(fitter_name);
   if (!fitter) throw std::runtime_error("unknown fitter " + fitter_name);
   Mesh mesh = load_mesh(path);
-  while (mesh.triangles.size() < triangles) mesh = subdivide(mesh);
+  while (mesh.triangles.size() < triangles) mesh = subdivide_midpoints(mesh);
   const double before = peak_mib();
   const auto start = Clock::now();
   const Tree tree = build(mesh, options_for(*fitter, threads));

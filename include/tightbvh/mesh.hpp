@@ -45,4 +45,10 @@ struct MeshStats {
 // `source` names the mesh in messages.
 MeshStats check_mesh(const Mesh& mesh, const std::string& source = "mesh");
 
+// Midpoint subdivision (Loop's split without smoothing): every triangle (a, b, c) becomes
+// (a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca), with one new vertex per edge shared by the
+// triangles of that edge. Makes large test meshes, and the flat patches of nearly coplanar
+// midpoints that subdivided, remeshed and CAD meshes have.
+[[nodiscard]] Mesh subdivide_midpoints(const Mesh& mesh);
+
 }  // namespace tightbvh

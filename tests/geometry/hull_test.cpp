@@ -20,7 +20,6 @@
 #include <string>
 
 #include "geometry/predicates.hpp"
-#include "../tree/derived_meshes.hpp"
 #include "qhull_oracle.hpp"
 #include "../fit/test_util.hpp"
 #include "tightbvh/fit.hpp"
@@ -753,7 +752,7 @@ TEST(Hull3, NearDegenerateRandomSetsAndMidpointGrids) {
     Mesh surface;
     surface.vertices = polytope.vertices;
     for (const auto& f : polytope.faces) surface.triangles.push_back(f);
-    for (int level = 0; level < 3; ++level) surface = test::subdivide_midpoints(surface);
+    for (int level = 0; level < 3; ++level) surface = subdivide_midpoints(surface);
     expect_consistent_hull(surface.vertices, workspace, "subdivided polytope, trial " + std::to_string(trial));
     expect_every_fitter_contains(surface.vertices, "subdivided polytope, trial " + std::to_string(trial));
     // With one point lifted off the plane a little: a thin solid whose faces are slivers.

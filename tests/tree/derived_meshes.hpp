@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
-#include <map>
 #include <random>
 #include <string>
 #include <utility>
@@ -14,32 +13,6 @@
 #include "tightbvh/mesh.hpp"
 
 namespace tightbvh::test {
-
-// Every triangle (a, b, c) into (a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca), with one
-// new vertex per edge shared by the triangles of that edge.
-inline Mesh subdivide_midpoints(const Mesh& mesh) {
-  Mesh out;
-  out.vertices = mesh.vertices;
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> midpoint;
-  const auto mid = [&](std::uint32_t a, std::uint32_t b) {
-    const auto key = std::minmax(a, b);
-    const auto [it, inserted] = midpoint.try_emplace({key.first, key.second}, 0u);
-    if (inserted) {
-      it->second = static_cast<std::uint32_t>(out.vertices.size());
-      out.vertices.push_back(0.5 * (out.vertices[a] + out.vertices[b]));
-    }
-    return it->second;
-  };
-  out.triangles.reserve(4 * mesh.triangles.size());
-  for (const Triangle& t : mesh.triangles) {
-    const std::uint32_t ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
-    out.triangles.push_back({t[0], ab, ca});
-    out.triangles.push_back({ab, t[1], bc});
-    out.triangles.push_back({ca, bc, t[2]});
-    out.triangles.push_back({ab, bc, ca});
-  }
-  return out;
-}
 
 inline Mesh transformed(Mesh mesh, double scale, const Vec3& shift) {
   for (Vec3& v : mesh.vertices) v = scale * v + shift;

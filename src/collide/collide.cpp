@@ -4,11 +4,10 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
-#include <exception>
 #include <string>
 #include <thread>
 
+#include "../tree/parallel.hpp"
 #include "query_workspace.hpp"
 #include "tightbvh/obb_overlap.hpp"
 #include "tightbvh/tri_tri.hpp"
@@ -142,30 +141,14 @@ std::vector<QueryResult> collide_batch(const Tree& a, const Mesh& ma, const Pose
                                        std::span<const Pose> poses_b, const QueryOptions& options, unsigned threads) {
   std::vector<QueryResult> results(poses_b.size());
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  threads = static_cast<unsigned>(std::min<std::size_t>(threads, poses_b.size()));
-  if (threads <= 1) {
-    for (std::size_t i = 0; i < poses_b.size(); ++i) results[i] = collide(a, ma, pa, b, mb, poses_b[i], options);
-    return results;
-  }
-  // Dynamic scheduling over pose indices; each result goes to its own slot, so the output does
-  // not depend on the thread count or the interleaving.
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::atomic<bool> failed{false};
-  const auto worker = [&] {
-    try {
-      for (std::size_t i = next++; i < poses_b.size() && !failed; i = next++)
-        results[i] = collide(a, ma, pa, b, mb, poses_b[i], options);
-    } catch (...) {
-      if (!failed.exchange(true)) error = std::current_exception();
-    }
-  };
-  std::vector<std::thread> pool;
-  pool.reserve(threads - 1);
-  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
-  worker();
-  for (std::thread& th : pool) th.join();
-  if (error) std::rethrow_exception(error);
+  threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(poses_b.size(), 1)));
+  // The builder's pool: dynamic scheduling over pose indices, one workspace per worker, each
+  // result in its own slot (so the output does not depend on the thread count or the
+  // interleaving), and the error of the lowest failing pose rethrown.
+  detail::WorkerPool<QueryWorkspace> pool(threads);
+  pool.run(poses_b.size(), [&](std::size_t i, QueryWorkspace& workspace) {
+    results[i] = collide(a, ma, pa, b, mb, poses_b[i], options, workspace);
+  });
   return results;
 }
 

@@ -370,6 +370,13 @@ TEST(CollideEdgeCases, VeryDeepTreeSpillsTheStack) {
   ASSERT_FALSE(reference.pairs.empty());
   const QueryResult r = collide(tree, strip, Pose::identity(), tree, strip, shifted, {.mode = QueryMode::all_pairs});
   EXPECT_EQ(r.pairs, reference.pairs);
+  // A reused workspace whose stack a stopped first_hit query left non-empty (here, spilled).
+  QueryWorkspace workspace;
+  EXPECT_TRUE(collide(tree, strip, Pose::identity(), tree, strip, shifted, {}, workspace).hit);
+  const QueryResult again =
+      collide(tree, strip, Pose::identity(), tree, strip, shifted, {.mode = QueryMode::all_pairs}, workspace);
+  EXPECT_EQ(again.pairs, reference.pairs);
+  EXPECT_EQ(again.stats, r.stats);
 }
 
 TEST(CollideEdgeCases, EmptyTreesMismatchedMeshesAndRelativePose) {
@@ -448,6 +455,17 @@ TEST(CollideWorkspace, EpochWrapInvalidatesTheBoxCache) {
   EXPECT_EQ(after.stats, fresh.stats);
 }
 
+
+// collide_batch rethrows a query's error from its workers (here every pose's: mismatched mesh).
+TEST(CollideWorkspace, BatchRethrowsQueryErrorsForAnyThreadCount) {
+  const Mesh m = cube();
+  const Tree t = build(m, {.fitter = FitMethod::aabb, .threads = 1});
+  Mesh two = m;
+  two.triangles.resize(2);
+  const std::vector<Pose> poses(8, Pose::identity());
+  for (const unsigned threads : {1u, 2u, 4u})
+    EXPECT_THROW((void)collide_batch(t, two, Pose::identity(), t, m, poses, {}, threads), InputError);
+}
 
 }  // namespace
 }  // namespace tightbvh

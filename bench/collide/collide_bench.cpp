@@ -212,9 +212,10 @@ void BM_Traversal(benchmark::State& state) {
                              .descend = state.range(3) ? DescendRule::larger_extent : DescendRule::larger_volume};
   QueryStats total;
   std::size_t queries = 0, hits = 0, pairs = 0;
+  QueryWorkspace workspace;  // reused, as a caller running many queries would
   for (auto _ : state) {
     for (const Pose& pose : poses) {
-      const QueryResult r = collide(*ta, sc.a, Pose::identity(), *tb, sc.b, pose, options);
+      const QueryResult r = collide(*ta, sc.a, Pose::identity(), *tb, sc.b, pose, options, workspace);
       total.box_tests += r.stats.box_tests;
       total.triangle_tests += r.stats.triangle_tests;
       hits += r.hit;

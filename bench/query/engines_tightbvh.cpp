@@ -23,10 +23,11 @@ class TightbvhAdapter {
       : ma_(in.a), mb_(in.b), a_(build_tree(in.a, fitter)), b_(build_tree(in.b, fitter)) {}
 
   [[nodiscard]] bool first_hit(const Pose& pose) const {
-    return collide(a_, ma_, Pose::identity(), b_, mb_, pose, {.mode = QueryMode::first_hit}).hit;
+    return collide(a_, ma_, Pose::identity(), b_, mb_, pose, {.mode = QueryMode::first_hit}, workspace_).hit;
   }
   void all_pairs(const Pose& pose, std::vector<Pair>& out) const {
-    const QueryResult r = collide(a_, ma_, Pose::identity(), b_, mb_, pose, {.mode = QueryMode::all_pairs});
+    const QueryResult r =
+        collide(a_, ma_, Pose::identity(), b_, mb_, pose, {.mode = QueryMode::all_pairs}, workspace_);
     for (const TrianglePair& p : r.pairs) out.emplace_back(p.a, p.b);
   }
 
@@ -34,6 +35,9 @@ class TightbvhAdapter {
   const Mesh& ma_;
   const Mesh& mb_;
   Tree a_, b_;
+  // Scratch reused by every query of this engine (engines run on one thread); mutable because
+  // the queries are logically const.
+  mutable QueryWorkspace workspace_;
 };
 
 EngineInfo ours(const std::string& name, Fitter fitter) {
@@ -73,9 +77,10 @@ struct Reference::Impl {
   const Input& in;
   bool brute = false;
   Tree a, b;
+  QueryWorkspace workspace;
 };
 
-Reference::Reference(const Input& in) : impl_(new Impl{in, false, {}, {}}) {
+Reference::Reference(const Input& in) : impl_(new Impl{in, false, {}, {}, {}}) {
   impl_->brute = double(in.a.triangles.size()) * double(in.b.triangles.size()) <= kBruteForcePairs;
   // Axis-aligned boxes: the simplest boxes, so the reference does not lean on a tight fitter.
   impl_->a = build_tree(in.a, FitMethod::aabb);
@@ -84,14 +89,15 @@ Reference::Reference(const Input& in) : impl_(new Impl{in, false, {}, {}}) {
 Reference::~Reference() = default;
 
 bool Reference::collides(const Pose& p) const {
-  return collide(impl_->a, impl_->in.a, Pose::identity(), impl_->b, impl_->in.b, p, {.mode = QueryMode::first_hit})
+  return collide(impl_->a, impl_->in.a, Pose::identity(), impl_->b, impl_->in.b, p, {.mode = QueryMode::first_hit},
+                 impl_->workspace)
       .hit;
 }
 
 std::vector<Pair> Reference::pairs(const Pose& p) const {
   const QueryOptions all{.mode = QueryMode::all_pairs};
   const QueryResult r = impl_->brute ? collide_brute_force(impl_->in.a, Pose::identity(), impl_->in.b, p, all)
-                                     : collide(impl_->a, impl_->in.a, Pose::identity(), impl_->b, impl_->in.b, p, all);
+                                     : collide(impl_->a, impl_->in.a, Pose::identity(), impl_->b, impl_->in.b, p, all, impl_->workspace);
   std::vector<Pair> out;
   out.reserve(r.pairs.size());
   for (const TrianglePair& t : r.pairs) out.emplace_back(t.a, t.b);

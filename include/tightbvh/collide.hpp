@@ -14,18 +14,19 @@
 // Traversal: Gottschalk et al. (1996) descent over node pairs with the 15-axis SAT
 // (obb_overlap.hpp), splitting the larger box (by volume) first, an explicit stack (inline
 // buffer, heap only for very deep trees), B's boxes mapped into A's frame lazily once per query
-// and node (per-thread workspace), B's triangles mapped at the leaves. Boxes are tested with a
+// and node (both in a QueryWorkspace), B's triangles mapped at the leaves. Boxes are tested with a
 // small margin (kBoxMargin times the meshes' scale) so that rounding and the fitters'
 // containment tolerance never cull a touching pair. No virtual calls.
 //
 // Thread safety: the query functions only read their inputs; any number of queries may run
-// concurrently (the box workspace is thread_local).
+// concurrently, each with its own QueryWorkspace (the overloads without one make their own).
 #include <cstdint>
 #include <span>
 #include <vector>
 
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/pose.hpp"
+#include "tightbvh/query_workspace.hpp"
 #include "tightbvh/tree.hpp"
 
 namespace tightbvh {
@@ -79,9 +80,15 @@ struct QueryResult {
 [[nodiscard]] QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa,  //
                                   const Tree& b, const Mesh& mb, const Pose& pb,  //
                                   const QueryOptions& options = {});
+// The same answer (and stats), with caller-owned scratch: the way to run many queries without
+// allocating per query.
+[[nodiscard]] QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa,  //
+                                  const Tree& b, const Mesh& mb, const Pose& pb,  //
+                                  const QueryOptions& options, QueryWorkspace& workspace);
 
 // One query per pose of B (A at pa), spread over `threads` threads (0: hardware concurrency).
-// Results are in pose order and identical for any thread count.
+// Results are in pose order and identical for any thread count. When queries throw, the
+// exception of the lowest pose index is rethrown (whatever the thread count).
 [[nodiscard]] std::vector<QueryResult> collide_batch(const Tree& a, const Mesh& ma, const Pose& pa,  //
                                                      const Tree& b, const Mesh& mb,                 //
                                                      std::span<const Pose> poses_b,                 //

@@ -4,13 +4,14 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
-#include <exception>
 #include <string>
 #include <thread>
 
+#include "../tree/parallel.hpp"
+#include "query_workspace.hpp"
 #include "tightbvh/obb_overlap.hpp"
 #include "tightbvh/tri_tri.hpp"
+#include "traverse.hpp"
 
 namespace tightbvh {
 namespace {
@@ -29,135 +30,64 @@ namespace {
   return box.center.cwiseAbs().maxCoeff() + box.half_extents.cwiseAbs().maxCoeff();
 }
 
-struct NodePair {
-  std::uint32_t a, b;
-};
-
-// Explicit traversal stack: a fixed inline buffer, spilling to the heap only for very deep trees.
-class PairStack {
- public:
-  void push(NodePair p) {
-    if (size_ < inline_.size()) {
-      inline_[size_++] = p;
-    } else {
-      spill_.push_back(p);
-      ++size_;
-    }
-  }
-  [[nodiscard]] bool empty() const { return size_ == 0; }
-  NodePair pop() {
-    --size_;
-    if (size_ >= inline_.size()) {
-      const NodePair p = spill_.back();
-      spill_.pop_back();
-      return p;
-    }
-    return inline_[size_];
-  }
-
- private:
-  std::array<NodePair, 256> inline_;
-  std::vector<NodePair> spill_;
-  std::size_t size_ = 0;
-};
-
-// B's boxes mapped into A's frame, computed lazily once per query and node: a per-thread
-// workspace whose entries are valid when their stamp equals the query's epoch (no clearing).
-struct MappedBox {
-  Mat3 axes;
-  Vec3 center;
-};
-struct BoxCache {
-  std::vector<MappedBox> boxes;
-  std::vector<std::uint32_t> stamp;
-  std::uint32_t epoch = 0;
-
-  void begin(std::size_t nodes) {
-    if (boxes.size() < nodes) {
-      boxes.resize(nodes);
-      stamp.resize(nodes, 0);
-    }
-    if (++epoch == 0) {  // wrapped: invalidate everything once
-      std::fill(stamp.begin(), stamp.end(), 0);
-      epoch = 1;
-    }
-  }
-};
-
 // Number of B triangles mapped into A's frame at once in a leaf-leaf test.
 constexpr std::uint32_t kLeafChunk = 32;
 
 template <bool FirstHit>
-void traverse(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& mb, const Pose& rel,
-              DescendRule rule, QueryResult& result) {
+void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& mb, const Pose& rel,
+                   DescendRule rule, QueryWorkspace::Scratch& ws, QueryResult& result) {
+  using namespace query_detail;
   const Mat3& R = rel.rotation;
   const Vec3& t = rel.translation;
   const double margin = kBoxMargin * (box_scale(ta.nodes[0].box) + box_scale(tb.nodes[0].box) +
                                       t.cwiseAbs().maxCoeff());
-  const auto size_of = [rule](const Obb& box) {
-    return rule == DescendRule::larger_volume ? box.half_extents.prod() : box.half_extents.maxCoeff();
-  };
   std::uint64_t box_tests = 0, triangle_tests = 0;
-  std::array<std::array<Vec3, 3>, kLeafChunk> mapped;
-  thread_local BoxCache cache;
+  BoxCache& cache = ws.mapped_b;
   cache.begin(tb.nodes.size());
-  PairStack stack;
-  stack.push({0, 0});
-  while (!stack.empty()) {
-    const NodePair np = stack.pop();
-    const Node& na = ta.nodes[np.a];
-    const Node& nb = tb.nodes[np.b];
+  const auto boxes_overlap = [&](std::uint32_t ia, std::uint32_t ib) {
+    const Obb& ba = ta.nodes[ia].box;
+    const Obb& bb = tb.nodes[ib].box;
     // B's box in A's frame (cached), then in A's box frame: C = Aa^T (R Bb), Aa^T (R cb + t - ca).
     ++box_tests;
-    MappedBox& mb_box = cache.boxes[np.b];
-    if (cache.stamp[np.b] != cache.epoch) {
-      cache.stamp[np.b] = cache.epoch;
-      mb_box.axes.noalias() = R * nb.box.axes;
-      mb_box.center.noalias() = R * nb.box.center + t;
+    MappedBox& mapped_box = cache.boxes[ib];
+    if (cache.stamp[ib] != cache.epoch) {
+      cache.stamp[ib] = cache.epoch;
+      mapped_box.axes.noalias() = R * bb.axes;
+      mapped_box.center.noalias() = R * bb.center + t;
     }
-    const Mat3 c = na.box.axes.transpose() * mb_box.axes;
-    const Vec3 d = na.box.axes.transpose() * (mb_box.center - na.box.center);
-    if (!obb_overlap(c, d, na.box.half_extents, nb.box.half_extents, margin)) continue;
-
-    if (na.is_leaf() && nb.is_leaf()) {
-      for (std::uint32_t cb = 0; cb < nb.count; cb += kLeafChunk) {
-        const std::uint32_t nbc = std::min(kLeafChunk, nb.count - cb);
+    const Mat3 c = ba.axes.transpose() * mapped_box.axes;
+    const Vec3 d = ba.axes.transpose() * (mapped_box.center - ba.center);
+    return obb_overlap(c, d, ba.half_extents, bb.half_extents, margin);
+  };
+  std::array<std::array<Vec3, 3>, kLeafChunk> mapped;
+  const auto triangles_touch = [&](std::uint32_t ia_node, std::uint32_t ib_node) {
+    const Node& na = ta.nodes[ia_node];
+    const Node& nb = tb.nodes[ib_node];
+    for (std::uint32_t cb = 0; cb < nb.count; cb += kLeafChunk) {
+      const std::uint32_t nbc = std::min(kLeafChunk, nb.count - cb);
+      for (std::uint32_t j = 0; j < nbc; ++j) {
+        const Triangle& tri = mb.triangles[tb.triangle_order[nb.first + cb + j]];
+        for (int k = 0; k < 3; ++k) mapped[j][k] = map_point(rel, mb.vertices[tri[k]]);
+      }
+      for (std::uint32_t i = 0; i < na.count; ++i) {
+        const std::uint32_t ia = ta.triangle_order[na.first + i];
+        const Triangle& tri = ma.triangles[ia];
+        const Vec3& p0 = ma.vertices[tri[0]];
+        const Vec3& p1 = ma.vertices[tri[1]];
+        const Vec3& p2 = ma.vertices[tri[2]];
         for (std::uint32_t j = 0; j < nbc; ++j) {
-          const Triangle& tri = mb.triangles[tb.triangle_order[nb.first + cb + j]];
-          for (int k = 0; k < 3; ++k) mapped[j][k] = map_point(rel, mb.vertices[tri[k]]);
-        }
-        for (std::uint32_t i = 0; i < na.count; ++i) {
-          const std::uint32_t ia = ta.triangle_order[na.first + i];
-          const Triangle& tri = ma.triangles[ia];
-          const Vec3& p0 = ma.vertices[tri[0]];
-          const Vec3& p1 = ma.vertices[tri[1]];
-          const Vec3& p2 = ma.vertices[tri[2]];
-          for (std::uint32_t j = 0; j < nbc; ++j) {
-            ++triangle_tests;
-            if (tri_tri_overlap(p0, p1, p2, mapped[j][0], mapped[j][1], mapped[j][2])) {
-              result.hit = true;
-              result.pairs.push_back({ia, tb.triangle_order[nb.first + cb + j]});
-              if constexpr (FirstHit) {
-                result.stats.box_tests += box_tests;
-                result.stats.triangle_tests += triangle_tests;
-                return;
-              }
-            }
+          ++triangle_tests;
+          if (tri_tri_overlap(p0, p1, p2, mapped[j][0], mapped[j][1], mapped[j][2])) {
+            result.hit = true;
+            result.pairs.push_back({ia, tb.triangle_order[nb.first + cb + j]});
+            if constexpr (FirstHit) return Walk::stop;
           }
         }
       }
-      continue;
     }
-    // Descend into the larger node (or the only internal one).
-    const bool split_a = nb.is_leaf() || (!na.is_leaf() && size_of(na.box) >= size_of(nb.box));
-    if (split_a) {
-      stack.push({na.first + 1, np.b});
-      stack.push({na.first, np.b});
-    } else {
-      stack.push({np.a, nb.first + 1});
-      stack.push({np.a, nb.first});
-    }
-  }
+    return Walk::go_on;
+  };
+  traverse_pairs(ta, tb, rule, ws.stack, boxes_overlap, triangles_touch);
   result.stats.box_tests += box_tests;
   result.stats.triangle_tests += triangle_tests;
 }
@@ -180,50 +110,45 @@ void finish(QueryResult& result) {
 
 Pose relative_pose(const Pose& pa, const Pose& pb) { return pa.inverse() * pb; }
 
+QueryWorkspace::QueryWorkspace() : scratch_(std::make_unique<Scratch>()) {}
+QueryWorkspace::~QueryWorkspace() = default;
+QueryWorkspace::QueryWorkspace(QueryWorkspace&&) noexcept = default;
+QueryWorkspace& QueryWorkspace::operator=(QueryWorkspace&&) noexcept = default;
+
 QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,
-                    const QueryOptions& options) {
+                    const QueryOptions& options, QueryWorkspace& workspace) {
   QueryResult result;
   if (a.nodes.empty() || b.nodes.empty()) return result;
   check_tree_fits_mesh(a, ma, "A");
   check_tree_fits_mesh(b, mb, "B");
   const Pose rel = relative_pose(pa, pb);
   if (options.mode == QueryMode::first_hit) {
-    traverse<true>(a, ma, b, mb, rel, options.descend, result);
+    collide_trees<true>(a, ma, b, mb, rel, options.descend, workspace.scratch(), result);
   } else {
-    traverse<false>(a, ma, b, mb, rel, options.descend, result);
+    collide_trees<false>(a, ma, b, mb, rel, options.descend, workspace.scratch(), result);
     finish(result);
   }
   return result;
+}
+
+QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,
+                    const QueryOptions& options) {
+  QueryWorkspace workspace;
+  return collide(a, ma, pa, b, mb, pb, options, workspace);
 }
 
 std::vector<QueryResult> collide_batch(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb,
                                        std::span<const Pose> poses_b, const QueryOptions& options, unsigned threads) {
   std::vector<QueryResult> results(poses_b.size());
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  threads = static_cast<unsigned>(std::min<std::size_t>(threads, poses_b.size()));
-  if (threads <= 1) {
-    for (std::size_t i = 0; i < poses_b.size(); ++i) results[i] = collide(a, ma, pa, b, mb, poses_b[i], options);
-    return results;
-  }
-  // Dynamic scheduling over pose indices; each result goes to its own slot, so the output does
-  // not depend on the thread count or the interleaving.
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::atomic<bool> failed{false};
-  const auto worker = [&] {
-    try {
-      for (std::size_t i = next++; i < poses_b.size() && !failed; i = next++)
-        results[i] = collide(a, ma, pa, b, mb, poses_b[i], options);
-    } catch (...) {
-      if (!failed.exchange(true)) error = std::current_exception();
-    }
-  };
-  std::vector<std::thread> pool;
-  pool.reserve(threads - 1);
-  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
-  worker();
-  for (std::thread& th : pool) th.join();
-  if (error) std::rethrow_exception(error);
+  threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(poses_b.size(), 1)));
+  // The builder's pool: dynamic scheduling over pose indices, one workspace per worker, each
+  // result in its own slot (so the output does not depend on the thread count or the
+  // interleaving), and the error of the lowest failing pose rethrown.
+  detail::WorkerPool<QueryWorkspace> pool(threads);
+  pool.run(poses_b.size(), [&](std::size_t i, QueryWorkspace& workspace) {
+    results[i] = collide(a, ma, pa, b, mb, poses_b[i], options, workspace);
+  });
   return results;
 }
 

@@ -52,6 +52,7 @@ struct BoptScratch {
   std::uint32_t epoch = 0;
   std::size_t calls = 0;
   std::vector<std::pair<double, std::uint32_t>> grid_order;  // grid_search: (bound, direction)
+  std::vector<Vec2> plane;  // lemma_box: the points projected onto the plane orthogonal to st
 };
 
 // Bopt(S, {v}) for the solid hull `g` (v need not be unit; a zero v gives an infinite box).

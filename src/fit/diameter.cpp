@@ -45,7 +45,7 @@ std::array<std::size_t, 2> approx_diameter(const Points& pts, std::size_t n, int
 
 }  // namespace
 
-AxisBox lemma_box(const HullGeometry& g) {
+AxisBox lemma_box(const HullGeometry& g, BoptScratch& scratch) {
   const auto& p = g.local;
   static const Vec3 kDirs[13] = {{1, 0, 0}, {0, 1, 0},  {0, 0, 1},  {1, 1, 0},  {1, -1, 0}, {1, 0, 1},  {1, 0, -1},
                                  {0, 1, 1}, {0, 1, -1}, {1, 1, 1},  {1, 1, -1}, {1, -1, 1}, {-1, 1, 1}};
@@ -54,7 +54,7 @@ AxisBox lemma_box(const HullGeometry& g) {
   const Mat3 frame = frame_from_axis(axis1);
   const Vec3 u = frame.col(1), w = frame.col(2);
   // Projection onto the plane H orthogonal to st, in the (u, w) basis.
-  thread_local std::vector<Vec2> q;
+  std::vector<Vec2>& q = scratch.plane;
   q.resize(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) q[i] = Vec2(u.dot(p[i]), w.dot(p[i]));
   const auto st2 = approx_diameter(q, q.size(), 8, [](int d) {
@@ -76,7 +76,7 @@ AxisBox lemma_box(const HullGeometry& g) {
 namespace tightbvh::fit_detail {
 
 AxisBox diameter_box(const HullGeometry& g, BoptScratch& scratch) {
-  const AxisBox lemma = lemma_box(g);
+  const AxisBox lemma = lemma_box(g, scratch);
   // Bopt(S, {st}) is never larger than the lemma's box (it shares the axis st and then takes
   // the optimal rectangle), and is what Section 6.5 reports as B*(S).
   const AxisBox along = bopt(g, lemma.axes.col(0), scratch);

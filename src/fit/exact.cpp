@@ -97,7 +97,7 @@ AxisBox exact_box(const HullGeometry& g, ExactScratch& s, BoptScratch& bs) {
   // A good first upper bound lets the bounds below skip most families: the grid search of
   // Section 6.4 with k = 2 and the local improvement (any valid box is a valid bound).
   {
-    const AxisBox seed = grid_search(g, lemma_box(g), 2, true, bs);
+    const AxisBox seed = grid_search(g, lemma_box(g, bs), 2, true, bs);
     if (seed.volume() < best_volume) {
       const AxisBox checked = confirmed(seed.axes);
       if (checked.volume() < best_volume) best_volume = checked.volume(), best = checked;

@@ -78,7 +78,7 @@ bool distinct_small(std::span<const Vec3> points, std::size_t limit, std::vector
 // cell of G = Grid(B_eps / 2), B_eps = (eps / 200) B*(S), then the exact box of the snapped hull.
 Mat3 snap_axes(FitWorkspace::Scratch& s, double epsilon) {
   using namespace fit_detail;
-  const AxisBox bstar = lemma_box(s.geometry);
+  const AxisBox bstar = lemma_box(s.geometry, s.bopt);
   const Vec3 cell = (bstar.hi - bstar.lo) * (epsilon / 400.0);
   s.cells.clear();
   for (const Vec3& p : s.geometry.local) {
@@ -154,7 +154,7 @@ Obb fit_checked(std::span<const Vec3> points, std::span<const Vec3> triangle_cor
       break;
     case FitMethod::approx: {
       const int k = options.epsilon ? grid_for_epsilon(*options.epsilon) : options.grid;
-      axes = grid_search(s.geometry, lemma_box(s.geometry), k, options.improve, s.bopt).axes;
+      axes = grid_search(s.geometry, lemma_box(s.geometry, s.bopt), k, options.improve, s.bopt).axes;
       break;
     }
     case FitMethod::approx_snap:

@@ -11,7 +11,8 @@ namespace tightbvh::fit_detail {
 
 // B*(S) of Lemma 6.3.1: approximate diameter st, approximate diameter s't' of the projection
 // onto the plane orthogonal to st, third axis orthogonal to both. O(n), volume <= 7 optimum.
-[[nodiscard]] AxisBox lemma_box(const HullGeometry& g);
+// `scratch` only lends its buffer for the projection (scratch.plane).
+[[nodiscard]] AxisBox lemma_box(const HullGeometry& g, BoptScratch& scratch);
 // B*(S) as used in Section 6.5 (Tables 6.1/6.2): Bopt(S, {st}) along the approximate diameter
 // st of lemma_box (never larger than the lemma's box, so still a 7-approximation).
 [[nodiscard]] AxisBox diameter_box(const HullGeometry& g, BoptScratch& scratch);

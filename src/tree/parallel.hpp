@@ -1,7 +1,9 @@
 #pragma once
-// A minimal fork-join helper for the builder (TBB is not a dependency): run(count, fn) calls
-// fn(i, scratch) for i in [0, count) on up to `threads` std::jthreads, each with its own
-// long-lived scratch buffers. The results must not depend on which worker ran which index.
+// A minimal fork-join helper for the builder and collide_batch (TBB is not a dependency):
+// run(count, fn) calls fn(i, scratch) for i in [0, count) on up to `threads` std::jthreads, each
+// with its own long-lived scratch buffers. The results must not depend on which worker ran which
+// index. When calls throw, the exception of the lowest failing index is rethrown: every lower
+// index was claimed before it and still runs to the end, whatever the timing.
 #include <algorithm>
 #include <atomic>
 #include <cstddef>

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <optional>
 #include <random>
@@ -12,6 +13,7 @@
 
 #include <Eigen/Geometry>
 
+#include "collide/query_workspace.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/fit.hpp"
 #include "tightbvh/tri_tri.hpp"
@@ -368,6 +370,13 @@ TEST(CollideEdgeCases, VeryDeepTreeSpillsTheStack) {
   ASSERT_FALSE(reference.pairs.empty());
   const QueryResult r = collide(tree, strip, Pose::identity(), tree, strip, shifted, {.mode = QueryMode::all_pairs});
   EXPECT_EQ(r.pairs, reference.pairs);
+  // A reused workspace whose stack a stopped first_hit query left non-empty (here, spilled).
+  QueryWorkspace workspace;
+  EXPECT_TRUE(collide(tree, strip, Pose::identity(), tree, strip, shifted, {}, workspace).hit);
+  const QueryResult again =
+      collide(tree, strip, Pose::identity(), tree, strip, shifted, {.mode = QueryMode::all_pairs}, workspace);
+  EXPECT_EQ(again.pairs, reference.pairs);
+  EXPECT_EQ(again.stats, r.stats);
 }
 
 TEST(CollideEdgeCases, EmptyTreesMismatchedMeshesAndRelativePose) {
@@ -384,6 +393,78 @@ TEST(CollideEdgeCases, EmptyTreesMismatchedMeshesAndRelativePose) {
   EXPECT_THROW((void)collide(t, two, Pose::identity(), t, m, Pose::identity()), InputError);
   EXPECT_THROW((void)collide(t, m, Pose::identity(), t, two, Pose::identity()), InputError);
   EXPECT_LT((pa.apply(rel.apply(x)) - pb.apply(x)).norm(), 1e-12);
+}
+
+// ------------------------------------------------------------------ workspace
+// One workspace reused over queries of different tree pairs (so the box cache grows and is
+// then partly stale), both modes and both descend rules (first_hit stops with pairs still on
+// the stack): the same answers and stats as a fresh workspace per query.
+TEST(CollideWorkspace, ReusedWorkspaceGivesTheSameResultsAsFreshOnes) {
+  const Mesh knot = subset(shipped("meshes/knot1.off"), 4);
+  const Mesh sphere = uv_sphere(10, 16, 0.3);
+  const Mesh small = uv_sphere(4, 6, 0.2);
+  const Tree tk = build(knot, {.fitter = FitMethod::pca, .threads = 1});
+  const Tree ts = build(sphere, {.fitter = FitMethod::approx, .threads = 1});
+  const Tree tm = build(small, {.fitter = FitMethod::aabb, .leaf_size = 4, .threads = 1});
+  struct Side {
+    const Tree& tree;
+    const Mesh& mesh;
+  };
+  const Side sides[][2] = {{{tk, knot}, {ts, sphere}}, {{ts, sphere}, {tk, knot}}, {{tk, knot}, {tm, small}},
+                           {{tm, small}, {ts, sphere}}};
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-0.6, 0.6);
+  QueryWorkspace workspace;
+  int hits = 0, queries = 0;
+  for (int round = 0; round < 2; ++round)
+    for (const auto& [a, b] : sides)
+      for (int i = 0; i < 10; ++i) {
+        const Pose pa{random_rotation(rng), Vec3(u(rng), u(rng), u(rng))};
+        const Pose pb{random_rotation(rng), Vec3(u(rng), u(rng), u(rng))};
+        for (const QueryMode mode : {QueryMode::first_hit, QueryMode::all_pairs})
+          for (const DescendRule rule : {DescendRule::larger_volume, DescendRule::larger_extent}) {
+            const QueryOptions options{.mode = mode, .descend = rule};
+            const QueryResult fresh = collide(a.tree, a.mesh, pa, b.tree, b.mesh, pb, options);
+            const QueryResult reused = collide(a.tree, a.mesh, pa, b.tree, b.mesh, pb, options, workspace);
+            EXPECT_EQ(reused.hit, fresh.hit) << "query " << queries;
+            EXPECT_EQ(reused.pairs, fresh.pairs) << "query " << queries;
+            EXPECT_EQ(reused.stats, fresh.stats) << "query " << queries;
+            hits += fresh.hit;
+            ++queries;
+          }
+      }
+  EXPECT_GT(hits, 0);
+  EXPECT_LT(hits, queries);
+}
+
+// The box cache's epoch wraps after 2^32 queries: it then invalidates every entry once.
+TEST(CollideWorkspace, EpochWrapInvalidatesTheBoxCache) {
+  const Mesh knot = subset(shipped("meshes/knot1.off"), 4);
+  const Mesh sphere = uv_sphere(10, 16, 0.3);
+  const Tree tk = build(knot, {.fitter = FitMethod::pca, .threads = 1});
+  const Tree ts = build(sphere, {.fitter = FitMethod::pca, .threads = 1});
+  const QueryOptions all{.mode = QueryMode::all_pairs};
+  const Pose p1{Mat3::Identity(), Vec3(0.1, 0.2, 0)}, p2{Mat3::Identity(), Vec3(-0.2, 0.1, 0.1)};
+  QueryWorkspace workspace;
+  (void)collide(tk, knot, Pose::identity(), ts, sphere, p1, all, workspace);
+  workspace.scratch().mapped_b.epoch = std::numeric_limits<std::uint32_t>::max();
+  const QueryResult after = collide(tk, knot, Pose::identity(), ts, sphere, p2, all, workspace);
+  EXPECT_EQ(workspace.scratch().mapped_b.epoch, 1u);
+  const QueryResult fresh = collide(tk, knot, Pose::identity(), ts, sphere, p2, all);
+  EXPECT_EQ(after.pairs, fresh.pairs);
+  EXPECT_EQ(after.stats, fresh.stats);
+}
+
+
+// collide_batch rethrows a query's error from its workers (here every pose's: mismatched mesh).
+TEST(CollideWorkspace, BatchRethrowsQueryErrorsForAnyThreadCount) {
+  const Mesh m = cube();
+  const Tree t = build(m, {.fitter = FitMethod::aabb, .threads = 1});
+  Mesh two = m;
+  two.triangles.resize(2);
+  const std::vector<Pose> poses(8, Pose::identity());
+  for (const unsigned threads : {1u, 2u, 4u})
+    EXPECT_THROW((void)collide_batch(t, two, Pose::identity(), t, m, poses, {}, threads), InputError);
 }
 
 }  // namespace

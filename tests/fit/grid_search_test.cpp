@@ -24,7 +24,7 @@ void expect_bound_below_bopt(std::span<const Vec3> points, std::uint64_t seed) {
   std::normal_distribution<double> normal;
   for (const HullGeometry* g : {&with_hull, &without_hull}) {
     fit_detail::BoptScratch scratch;
-    const fit_detail::VolumeBound bound(*g, fit_detail::lemma_box(*g));
+    const fit_detail::VolumeBound bound(*g, fit_detail::lemma_box(*g, scratch));
     double sum_ratio = 0.0;
     constexpr int kDirections = 200;
     for (int i = 0; i < kDirections; ++i) {

@@ -1,0 +1,44 @@
+#pragma once
+// Internal: the scratch buffers behind QueryWorkspace (reused between queries).
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "tightbvh/math.hpp"
+#include "tightbvh/query_workspace.hpp"
+#include "traverse.hpp"
+
+namespace tightbvh {
+namespace query_detail {
+
+// B's boxes mapped into A's frame, computed lazily once per query and node; an entry is valid
+// when its stamp equals the query's epoch, so a new query needs no clearing.
+struct MappedBox {
+  Mat3 axes;
+  Vec3 center;
+};
+struct BoxCache {
+  std::vector<MappedBox> boxes;
+  std::vector<std::uint32_t> stamp;
+  std::uint32_t epoch = 0;
+
+  void begin(std::size_t nodes) {
+    if (boxes.size() < nodes) {
+      boxes.resize(nodes);
+      stamp.resize(nodes, 0);
+    }
+    if (++epoch == 0) {  // wrapped: invalidate everything once
+      std::fill(stamp.begin(), stamp.end(), 0);
+      epoch = 1;
+    }
+  }
+};
+
+}  // namespace query_detail
+
+struct QueryWorkspace::Scratch {
+  query_detail::PairStack stack;
+  query_detail::BoxCache mapped_b;
+};
+
+}  // namespace tightbvh

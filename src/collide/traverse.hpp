@@ -1,0 +1,93 @@
+#pragma once
+// Internal: the one descent over node pairs of two trees, shared by the tree-vs-tree queries
+// (in the style of madmann91/bvh's traverse_top_down and Jolt's WalkTree + visitor). The
+// query supplies what differs, as callables that inline (no std::function, no virtual):
+//   test(a, b) -> bool        may the node pair (indices into ta.nodes, tb.nodes) hold an
+//                             answer? false culls it (the query counts its own tests);
+//   leaves(a, b) -> Walk      both nodes are leaves (ranges: ta.nodes[a].first/count into
+//                             ta.triangle_order, same for b); Walk::stop ends the descent.
+// Order: depth first from (0, 0); of an internal pair the larger node (DescendRule) is split,
+// its first child visited first. Queries rely on this order for their first hit and stats.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "tightbvh/collide.hpp"
+#include "tightbvh/tree.hpp"
+
+namespace tightbvh::query_detail {
+
+enum class Walk : bool { go_on, stop };
+
+struct NodePair {
+  std::uint32_t a, b;
+};
+
+// Explicit traversal stack: a fixed inline buffer, spilling to the heap only for very deep trees.
+class PairStack {
+ public:
+  void clear() {
+    size_ = 0;
+    spill_.clear();
+  }
+  void push(NodePair p) {
+    if (size_ < inline_.size()) {
+      inline_[size_++] = p;
+    } else {
+      spill_.push_back(p);
+      ++size_;
+    }
+  }
+  [[nodiscard]] bool empty() const { return size_ == 0; }
+  NodePair pop() {
+    --size_;
+    if (size_ >= inline_.size()) {
+      const NodePair p = spill_.back();
+      spill_.pop_back();
+      return p;
+    }
+    return inline_[size_];
+  }
+
+ private:
+  std::array<NodePair, 256> inline_;
+  std::vector<NodePair> spill_;
+  std::size_t size_ = 0;
+};
+
+// The size that DescendRule compares.
+[[nodiscard]] inline double descend_size(const Obb& box, DescendRule rule) {
+  return rule == DescendRule::larger_volume ? box.half_extents.prod() : box.half_extents.maxCoeff();
+}
+
+// Walks the node pairs of non-empty trees ta x tb. Returns Walk::stop when `leaves` stopped it.
+// `stack` is scratch (cleared here, so a stack left over by a stopped walk is fine).
+template <class NodeTest, class LeafPair>
+Walk traverse_pairs(const Tree& ta, const Tree& tb, DescendRule rule, PairStack& stack, NodeTest&& test,
+                    LeafPair&& leaves) {
+  stack.clear();
+  stack.push({0, 0});
+  while (!stack.empty()) {
+    const NodePair np = stack.pop();
+    if (!test(np.a, np.b)) continue;
+    const Node& na = ta.nodes[np.a];
+    const Node& nb = tb.nodes[np.b];
+    if (na.is_leaf() && nb.is_leaf()) {
+      if (leaves(np.a, np.b) == Walk::stop) return Walk::stop;
+      continue;
+    }
+    // Descend into the larger node (or the only internal one).
+    const bool split_a = nb.is_leaf() || (!na.is_leaf() && descend_size(na.box, rule) >= descend_size(nb.box, rule));
+    if (split_a) {
+      stack.push({na.first + 1, np.b});
+      stack.push({na.first, np.b});
+    } else {
+      stack.push({np.a, nb.first + 1});
+      stack.push({np.a, nb.first});
+    }
+  }
+  return Walk::go_on;
+}
+
+}  // namespace tightbvh::query_detail

@@ -1,15 +1,16 @@
 // tightbvh build MESH [options]: build a tree, print its statistics, optionally save it and
 // write the boxes of one level as an OBJ wireframe.  tightbvh inspect TREE: statistics of a
 // saved tree (and, with --mesh, validation against its mesh).
-#include <fstream>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "commands.hpp"
+#include "names.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/serialize.hpp"
+#include "tightbvh/tree_obj.hpp"
 #include "tightbvh/validate_tree.hpp"
 
 namespace tightbvh::cli {
@@ -37,60 +38,95 @@ void print_stats(const TreeStats& s) {
   std::cout << '\n';
 }
 
-// 8 corners and the 12 edges of each box at depth `level`, as OBJ `v` and `l` lines.
-std::size_t write_boxes_obj(const Tree& tree, std::size_t level, const std::string& path) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "# tightbvh: boxes of tree level " << level << "\n";
-  std::size_t boxes = 0;
-  std::vector<std::pair<std::uint32_t, std::size_t>> stack{{0, 0}};
-  while (!stack.empty()) {
-    const auto [index, depth] = stack.back();
-    stack.pop_back();
-    const Node& node = tree.nodes[index];
-    if (depth == level) {
-      // Obb::corners: bit 0 -> +axis 0, bit 1 -> +axis 1, bit 2 -> +axis 2.
-      for (const Vec3& c : node.box.corners()) out << "v " << c.x() << ' ' << c.y() << ' ' << c.z() << '\n';
-      const std::size_t base = 8 * boxes + 1;
-      for (int a = 0; a < 8; ++a)
-        for (const int bit : {1, 2, 4})
-          if (!(a & bit)) out << "l " << base + a << ' ' << base + (a | bit) << '\n';
-      ++boxes;
-      continue;
-    }
-    if (!node.is_leaf()) {
-      stack.push_back({node.first + 1, depth + 1});
-      stack.push_back({node.first, depth + 1});
-    }
+struct BuildArgs {
+  std::string mesh, output, boxes_obj;
+  std::string fitter = to_string(BuildOptions{}.fitter);  // the library's defaults
+  std::string split{to_string(BuildOptions{}.split)};
+  int grid = 0;
+  double epsilon = 0.0;
+  std::uint32_t leaf_size = 1;
+  unsigned threads = 0;
+  std::size_t level = 0;
+  bool json = false, validate = false;
+};
+
+[[nodiscard]] BuildOptions parse_build_options(const BuildArgs& args, const CLI::App& cmd) {
+  BuildOptions options;
+  const auto fitter = parse_fitter(args.fitter);
+  if (!fitter) throw InputError("unknown fitter '" + args.fitter + "'");
+  options.fitter = *fitter;
+  const auto split = parse_split_method(args.split);
+  if (!split) throw InputError("unknown split '" + args.split + "' (" + one_of(split_method_names()) + ")");
+  options.split = *split;
+  if (cmd.count("--grid")) options.fit.grid = args.grid;
+  if (cmd.count("--epsilon")) options.fit.epsilon = args.epsilon;
+  options.leaf_size = args.leaf_size;
+  options.threads = args.threads;
+  return options;
+}
+
+struct BuildRun {
+  std::size_t triangles = 0;
+  BuildResult result;
+  std::size_t boxes = 0;  // written to --boxes-obj
+};
+
+// Builds, then validates, saves and writes the boxes as asked.
+[[nodiscard]] BuildRun run_build(const BuildArgs& args, const BuildOptions& options) {
+  const Mesh mesh = load_mesh(args.mesh);
+  BuildRun run{mesh.triangles.size(), build_with_stats(mesh, options)};
+  const Tree& tree = run.result.tree;
+  if (args.validate) {
+    const TreeCheck check = validate(tree, mesh);
+    if (!check.ok()) throw std::runtime_error("invalid tree: " + check.errors[0]);
   }
-  std::ofstream file(path);
-  if (!file) throw InputError(path + ": cannot open for writing");
-  file << out.str();
-  if (!file.flush()) throw InputError(path + ": write failed");
-  return boxes;
+  if (!args.output.empty()) save_tree(tree, args.output);
+  if (!args.boxes_obj.empty()) {
+    const std::size_t depth_max = run.result.stats.tree.depth_max;
+    if (args.level > depth_max)
+      throw InputError("--level " + std::to_string(args.level) + " is deeper than the tree (max depth " +
+                       std::to_string(depth_max) + ")");
+    run.boxes = write_boxes_obj(tree, args.level, std::filesystem::path(args.boxes_obj));
+  }
+  return run;
+}
+
+void print_build(const BuildArgs& args, const BuildOptions& options, const BuildRun& run) {
+  const BuildStats& stats = run.result.stats;
+  if (args.json) {
+    nlohmann::json out = stats_json(stats.tree);
+    out["mesh"] = args.mesh;
+    out["triangles"] = run.triangles;
+    out["fitter"] = to_string(options.fitter);
+    out["split"] = std::string(to_string(options.split));
+    out["leaf_size"] = options.leaf_size;
+    out["seconds"] = stats.seconds;
+    if (args.validate) out["valid"] = true;
+    if (!args.output.empty()) out["output"] = args.output;
+    if (!args.boxes_obj.empty()) out["boxes_obj"] = {{"file", args.boxes_obj}, {"level", args.level}, {"boxes", run.boxes}};
+    std::cout << out.dump(2) << '\n';
+    return;
+  }
+  std::cout << args.mesh << ": " << run.triangles << " triangles, fitter " << to_string(options.fitter) << ", split "
+            << to_string(options.split) << ", built in " << stats.seconds << " s\n";
+  print_stats(stats.tree);
+  if (args.validate) std::cout << "valid\n";
+  if (!args.output.empty()) std::cout << "saved " << args.output << '\n';
+  if (!args.boxes_obj.empty())
+    std::cout << "wrote " << run.boxes << " boxes of level " << args.level << " to " << args.boxes_obj << '\n';
 }
 
 void add_build(CLI::App& app) {
   auto* cmd = app.add_subcommand("build", "build a tree of oriented boxes over a mesh");
-  struct Args {
-    std::string mesh, fitter = "auto", split = "rapid", output, boxes_obj;
-    int grid = 0;
-    double epsilon = 0.0;
-    std::uint32_t leaf_size = 1;
-    unsigned threads = 0;
-    std::size_t level = 0;
-    bool json = false, validate = false;
-  };
-  auto args = std::make_shared<Args>();
+  auto args = std::make_shared<BuildArgs>();
   cmd->add_option("mesh", args->mesh, "mesh file (OBJ, OFF, STL, PLY, ...)")->required();
-  cmd->add_option("--fitter", args->fitter, "auto | aabb | pca | pca-vertex | diameter | approx | approx-snap | exact")
-      ->capture_default_str();
+  cmd->add_option("--fitter", args->fitter, choices(fitter_names()))->capture_default_str();
   auto* grid = cmd->add_option("--grid", args->grid, "grid radius k of approx (directions with L-inf norm <= k)")
                    ->check(CLI::PositiveNumber);
   cmd->add_option("--epsilon", args->epsilon, "approximation factor of approx (chooses k)")
       ->check(CLI::PositiveNumber)
       ->excludes(grid);
-  cmd->add_option("--split", args->split, "rapid | median | binned")->capture_default_str();
+  cmd->add_option("--split", args->split, choices(split_method_names()))->capture_default_str();
   cmd->add_option("--leaf-size", args->leaf_size, "max triangles per leaf")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")->capture_default_str();
   cmd->add_option("-o,--output", args->output, "save the tree to this file");
@@ -99,63 +135,35 @@ void add_build(CLI::App& app) {
   cmd->add_flag("--validate", args->validate, "check the tree against the mesh (containment, partition)");
   cmd->add_flag("--json", args->json, "print JSON instead of text");
   cmd->callback([args, cmd] {
-    BuildOptions options;
-    const auto fitter = parse_fitter(args->fitter);
-    if (!fitter) throw InputError("unknown fitter '" + args->fitter + "'");
-    options.fitter = *fitter;
-    const auto split = parse_split_method(args->split);
-    if (!split) throw InputError("unknown split '" + args->split + "' (rapid, median or binned)");
-    options.split = *split;
-    if (cmd->count("--grid")) options.fit.grid = args->grid;
-    if (cmd->count("--epsilon")) options.fit.epsilon = args->epsilon;
-    options.leaf_size = args->leaf_size;
-    options.threads = args->threads;
-
-    const Mesh mesh = load_mesh(args->mesh);
-    const BuildResult result = build_with_stats(mesh, options);
-    if (args->validate) {
-      const TreeCheck check = validate(result.tree, mesh);
-      if (!check.ok()) throw std::runtime_error("invalid tree: " + check.errors[0]);
-    }
-    if (!args->output.empty()) save_tree(result.tree, args->output);
-    std::size_t box_count = 0;
-    if (!args->boxes_obj.empty()) {
-      if (args->level > result.stats.tree.depth_max)
-        throw InputError("--level " + std::to_string(args->level) + " is deeper than the tree (max depth " +
-                         std::to_string(result.stats.tree.depth_max) + ")");
-      box_count = write_boxes_obj(result.tree, args->level, args->boxes_obj);
-    }
-    if (args->json) {
-      nlohmann::json out = stats_json(result.stats.tree);
-      out["mesh"] = args->mesh;
-      out["triangles"] = mesh.triangles.size();
-      out["fitter"] = to_string(options.fitter);
-      out["split"] = std::string(to_string(options.split));
-      out["leaf_size"] = options.leaf_size;
-      out["seconds"] = result.stats.seconds;
-      if (args->validate) out["valid"] = true;
-      if (!args->output.empty()) out["output"] = args->output;
-      if (!args->boxes_obj.empty()) out["boxes_obj"] = {{"file", args->boxes_obj}, {"level", args->level}, {"boxes", box_count}};
-      std::cout << out.dump(2) << '\n';
-    } else {
-      std::cout << args->mesh << ": " << mesh.triangles.size() << " triangles, fitter " << to_string(options.fitter)
-                << ", split " << to_string(options.split) << ", built in " << result.stats.seconds << " s\n";
-      print_stats(result.stats.tree);
-      if (args->validate) std::cout << "valid\n";
-      if (!args->output.empty()) std::cout << "saved " << args->output << '\n';
-      if (!args->boxes_obj.empty())
-        std::cout << "wrote " << box_count << " boxes of level " << args->level << " to " << args->boxes_obj << '\n';
-    }
+    const BuildOptions options = parse_build_options(*args, *cmd);
+    print_build(*args, options, run_build(*args, options));
   });
+}
+
+struct InspectArgs {
+  std::string tree, mesh;
+  bool json = false;
+};
+
+void print_inspect(const InspectArgs& args, const Tree& tree, const TreeStats& s) {
+  if (args.json) {
+    nlohmann::json out = stats_json(s);
+    out["tree"] = args.tree;
+    out["triangles"] = tree.triangle_order.size();
+    out["format_version"] = kTreeFormatVersion;
+    if (!args.mesh.empty()) out["valid"] = true;
+    std::cout << out.dump(2) << '\n';
+    return;
+  }
+  std::cout << args.tree << ": " << tree.triangle_order.size() << " triangles, format version " << kTreeFormatVersion
+            << '\n';
+  print_stats(s);
+  if (!args.mesh.empty()) std::cout << "valid for " << args.mesh << '\n';
 }
 
 void add_inspect(CLI::App& app) {
   auto* cmd = app.add_subcommand("inspect", "print statistics of a saved tree");
-  struct Args {
-    std::string tree, mesh;
-    bool json = false;
-  };
-  auto args = std::make_shared<Args>();
+  auto args = std::make_shared<InspectArgs>();
   cmd->add_option("tree", args->tree, "tree file written by `tightbvh build -o`")->required();
   cmd->add_option("--mesh", args->mesh, "also validate the tree against this mesh");
   cmd->add_flag("--json", args->json, "print JSON instead of text");
@@ -166,19 +174,7 @@ void add_inspect(CLI::App& app) {
       const TreeCheck check = validate(tree, load_mesh(args->mesh));
       if (!check.ok()) throw std::runtime_error(args->tree + ": invalid for " + args->mesh + ": " + check.errors[0]);
     }
-    if (args->json) {
-      nlohmann::json out = stats_json(s);
-      out["tree"] = args->tree;
-      out["triangles"] = tree.triangle_order.size();
-      out["format_version"] = kTreeFormatVersion;
-      if (!args->mesh.empty()) out["valid"] = true;
-      std::cout << out.dump(2) << '\n';
-    } else {
-      std::cout << args->tree << ": " << tree.triangle_order.size() << " triangles, format version "
-                << kTreeFormatVersion << '\n';
-      print_stats(s);
-      if (!args->mesh.empty()) std::cout << "valid for " << args->mesh << '\n';
-    }
+    print_inspect(*args, tree, s);
   });
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "names.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
 #include "tightbvh/pose_text.hpp"
@@ -26,72 +27,85 @@ Pose parse_pose_option(const std::string& text) {
   }
 }
 
+struct Args {
+  std::string mesh_a, mesh_b, pose = "1 0 0 0 1 0 0 0 1 0 0 0", fitter = to_string(BuildOptions{}.fitter);
+  std::uint32_t leaf_size = 1;
+  unsigned threads = 0;
+  bool all_pairs = false, json = false;
+};
+
+struct Run {
+  Fitter fitter;
+  QueryResult result;
+  double build_seconds = 0.0, query_seconds = 0.0;
+};
+
+// Builds both trees and runs the query.
+[[nodiscard]] Run run_collide(const Args& args) {
+  const Pose pose_b = parse_pose_option(args.pose);
+  const auto fitter = parse_fitter(args.fitter);
+  if (!fitter) throw InputError("unknown fitter '" + args.fitter + "'");
+  const Mesh a = load_mesh(args.mesh_a);
+  const Mesh b = load_mesh(args.mesh_b);
+  BuildOptions build_options;
+  build_options.fitter = *fitter;
+  build_options.leaf_size = args.leaf_size;
+  build_options.threads = args.threads;
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  const Tree ta = build(a, build_options);
+  const Tree tb = build(b, build_options);
+  const auto t1 = Clock::now();
+  const QueryOptions options{.mode = args.all_pairs ? QueryMode::all_pairs : QueryMode::first_hit};
+  Run run{*fitter, collide(ta, a, Pose::identity(), tb, b, pose_b, options)};
+  const auto t2 = Clock::now();
+  run.build_seconds = std::chrono::duration<double>(t1 - t0).count();
+  run.query_seconds = std::chrono::duration<double>(t2 - t1).count();
+  return run;
+}
+
+void print_collide(const Args& args, const Run& run) {
+  const QueryResult& r = run.result;
+  if (args.json) {
+    nlohmann::json pairs = nlohmann::json::array();
+    for (const TrianglePair& p : r.pairs) pairs.push_back({p.a, p.b});
+    const nlohmann::json out = {{"mesh_a", args.mesh_a},
+                                {"mesh_b", args.mesh_b},
+                                {"fitter", to_string(run.fitter)},
+                                {"mode", args.all_pairs ? "all_pairs" : "first_hit"},
+                                {"hit", r.hit},
+                                {"pair_count", r.pairs.size()},
+                                {"pairs", pairs},
+                                {"box_tests", r.stats.box_tests},
+                                {"triangle_tests", r.stats.triangle_tests},
+                                {"seconds", run.query_seconds},
+                                {"build_seconds", run.build_seconds}};
+    std::cout << out.dump(2) << '\n';
+    return;
+  }
+  std::cout << "hit: " << (r.hit ? "yes" : "no") << '\n'
+            << (args.all_pairs ? "pairs: " : "pairs (first hit): ") << r.pairs.size() << '\n'
+            << "box tests: " << r.stats.box_tests << '\n'
+            << "triangle tests: " << r.stats.triangle_tests << '\n'
+            << "seconds: " << run.query_seconds << " (query), " << run.build_seconds << " (build, fitter "
+            << to_string(run.fitter) << ")\n";
+}
+
 }  // namespace
 
 void add_collide_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("collide", "collision query between two meshes (A at identity, B at --pose)");
-  struct Args {
-    std::string mesh_a, mesh_b, pose = "1 0 0 0 1 0 0 0 1 0 0 0", fitter = "auto";
-    std::uint32_t leaf_size = 1;
-    unsigned threads = 0;
-    bool all_pairs = false, json = false;
-  };
   auto args = std::make_shared<Args>();
   cmd->add_option("mesh_a", args->mesh_a, "mesh A (OBJ, OFF, STL, PLY, ...)")->required();
   cmd->add_option("mesh_b", args->mesh_b, "mesh B")->required();
   cmd->add_option("--pose", args->pose, "B's pose in A's frame: \"r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz\"")
       ->capture_default_str();
   cmd->add_flag("--all-pairs", args->all_pairs, "report every touching triangle pair (default: first hit)");
-  cmd->add_option("--fitter", args->fitter, "auto | aabb | pca | pca-vertex | diameter | approx | approx-snap | exact")
-      ->capture_default_str();
+  cmd->add_option("--fitter", args->fitter, choices(fitter_names()))->capture_default_str();
   cmd->add_option("--leaf-size", args->leaf_size, "max triangles per leaf")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--threads", args->threads, "build threads (0: all cores)")->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON instead of text");
-  cmd->callback([args] {
-    const Pose pose_b = parse_pose_option(args->pose);
-    const auto fitter = parse_fitter(args->fitter);
-    if (!fitter) throw InputError("unknown fitter '" + args->fitter + "'");
-    const Mesh a = load_mesh(args->mesh_a);
-    const Mesh b = load_mesh(args->mesh_b);
-    BuildOptions build_options;
-    build_options.fitter = *fitter;
-    build_options.leaf_size = args->leaf_size;
-    build_options.threads = args->threads;
-    using Clock = std::chrono::steady_clock;
-    const auto t0 = Clock::now();
-    const Tree ta = build(a, build_options);
-    const Tree tb = build(b, build_options);
-    const auto t1 = Clock::now();
-    const QueryOptions options{.mode = args->all_pairs ? QueryMode::all_pairs : QueryMode::first_hit};
-    const QueryResult r = collide(ta, a, Pose::identity(), tb, b, pose_b, options);
-    const auto t2 = Clock::now();
-    const double build_seconds = std::chrono::duration<double>(t1 - t0).count();
-    const double query_seconds = std::chrono::duration<double>(t2 - t1).count();
-
-    if (args->json) {
-      nlohmann::json pairs = nlohmann::json::array();
-      for (const TrianglePair& p : r.pairs) pairs.push_back({p.a, p.b});
-      const nlohmann::json out = {{"mesh_a", args->mesh_a},
-                                  {"mesh_b", args->mesh_b},
-                                  {"fitter", to_string(*fitter)},
-                                  {"mode", args->all_pairs ? "all_pairs" : "first_hit"},
-                                  {"hit", r.hit},
-                                  {"pair_count", r.pairs.size()},
-                                  {"pairs", pairs},
-                                  {"box_tests", r.stats.box_tests},
-                                  {"triangle_tests", r.stats.triangle_tests},
-                                  {"seconds", query_seconds},
-                                  {"build_seconds", build_seconds}};
-      std::cout << out.dump(2) << '\n';
-    } else {
-      std::cout << "hit: " << (r.hit ? "yes" : "no") << '\n'
-                << (args->all_pairs ? "pairs: " : "pairs (first hit): ") << r.pairs.size() << '\n'
-                << "box tests: " << r.stats.box_tests << '\n'
-                << "triangle tests: " << r.stats.triangle_tests << '\n'
-                << "seconds: " << query_seconds << " (query), " << build_seconds << " (build, fitter "
-                << to_string(*fitter) << ")\n";
-    }
-  });
+  cmd->callback([args] { print_collide(*args, run_collide(*args)); });
 }
 
 }  // namespace tightbvh::cli

@@ -38,6 +38,21 @@ MeshStats check_mesh(const Mesh& mesh, const std::string& source) {
   return stats;
 }
 
+std::vector<Vec3> triangle_corners(const Mesh& mesh) {
+  std::vector<Vec3> out;
+  out.reserve(3 * mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (const Vec3& c : mesh.corners(t)) out.push_back(c);
+  return out;
+}
+
+void triangle_corners(const Mesh& mesh, std::span<const std::uint32_t> triangles, std::vector<Vec3>& out) {
+  out.clear();
+  out.reserve(3 * triangles.size());
+  for (const std::uint32_t t : triangles)
+    for (const Vec3& c : mesh.corners(t)) out.push_back(c);
+}
+
 Mesh subdivide_midpoints(const Mesh& mesh) {
   Mesh out;
   out.vertices = mesh.vertices;

@@ -20,8 +20,7 @@ namespace {
 using tightbvh::FitMethod;
 using tightbvh::Vec3;
 
-const FitMethod kMethods[] = {FitMethod::aabb,   FitMethod::pca,         FitMethod::pca_vertex, FitMethod::diameter,
-                              FitMethod::approx, FitMethod::approx_snap, FitMethod::exact};
+const auto kMethods = tightbvh::all_fit_methods();
 
 std::filesystem::path source(const std::string& relative) { return std::filesystem::path(TIGHTBVH_SOURCE_DIR) / relative; }
 
@@ -87,9 +86,7 @@ void register_all() {
   }
   for (const char* name : {"elephant", "knot1"}) {
     const auto mesh = std::make_shared<tightbvh::Mesh>(tightbvh::load_mesh(source(std::string("meshes/") + name + ".off")));
-    auto corners = std::make_shared<std::vector<Vec3>>();
-    for (std::size_t t = 0; t < mesh->triangles.size(); ++t)
-      for (const Vec3& c : mesh->corners(t)) corners->push_back(c);
+    const auto corners = std::make_shared<std::vector<Vec3>>(tightbvh::triangle_corners(*mesh));
     for (FitMethod m : kMethods) {
       benchmark::RegisterBenchmark(("BM_FitMesh/" + std::string(tightbvh::to_string(m)) + "/" + name).c_str(),
                                    [mesh, corners, m](benchmark::State& state) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <string_view>
 #include <variant>
+#include <vector>
 
 #include "tightbvh/fit.hpp"
 #include "tightbvh/mesh.hpp"
@@ -35,6 +36,8 @@ using Fitter = std::variant<FitMethod, AutoFit>;
 // "auto" or any name parse_fit_method accepts.
 [[nodiscard]] std::optional<Fitter> parse_fitter(std::string_view name);
 [[nodiscard]] std::string to_string(const Fitter& fitter);
+// What parse_fitter accepts: "auto", then fit_method_names().
+[[nodiscard]] std::vector<std::string_view> fitter_names();
 
 struct BuildOptions {
   Fitter fitter = AutoFit{};

@@ -27,8 +27,12 @@ struct FitOptions {
   bool improve = true;             // local improvement step (the "(Improved)" rows)
 };
 
+// The one table of method names (fit.cpp): parsing, printing, listing and help texts use it.
 [[nodiscard]] std::optional<FitMethod> parse_fit_method(std::string_view name);
 [[nodiscard]] std::string_view to_string(FitMethod method);
+// Every method, in declaration order ("aabb", "pca", "pca-vertex", ..., "exact").
+[[nodiscard]] std::span<const FitMethod> all_fit_methods();
+[[nodiscard]] std::span<const std::string_view> fit_method_names();  // same order
 
 // The grid radius k used for a requested epsilon (documented in fit.cpp and the README).
 [[nodiscard]] int grid_for_epsilon(double epsilon);

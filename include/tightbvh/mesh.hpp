@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -23,6 +24,12 @@ struct Mesh {
     return {vertices[t[0]], vertices[t[1]], vertices[t[2]]};
   }
 };
+
+// The corners of every triangle, three per triangle in triangle order: the triangle soup the
+// fitters take (fit_triangles).
+[[nodiscard]] std::vector<Vec3> triangle_corners(const Mesh& mesh);
+// The same for the listed triangles only, into `out` (its contents replaced, its memory reused).
+void triangle_corners(const Mesh& mesh, std::span<const std::uint32_t> triangles, std::vector<Vec3>& out);
 
 struct MeshStats {
   std::size_t vertices = 0;

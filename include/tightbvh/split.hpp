@@ -1,6 +1,7 @@
 #pragma once
 // How the builder divides a node's triangles between its two children.
 #include <optional>
+#include <span>
 #include <string_view>
 
 namespace tightbvh {
@@ -19,7 +20,11 @@ enum class SplitMethod {
   binned,
 };
 
+// The one table of split names (splitter.cpp); parse_split_method also takes "sah" for binned.
 [[nodiscard]] std::optional<SplitMethod> parse_split_method(std::string_view name);
 [[nodiscard]] std::string_view to_string(SplitMethod method);
+// Every split, in declaration order ("rapid", "median", "binned").
+[[nodiscard]] std::span<const SplitMethod> all_split_methods();
+[[nodiscard]] std::span<const std::string_view> split_method_names();  // same order
 
 }  // namespace tightbvh

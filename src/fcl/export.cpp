@@ -9,6 +9,10 @@
 #include <fcl/geometry/bvh/detail/BV_fitter.h>
 #include <fcl/geometry/bvh/detail/BV_splitter.h>
 
+#include "tightbvh/tree_walk.hpp"
+#include "tightbvh/validate_tree.hpp"
+#include "tree/splitter.hpp"
+
 namespace tightbvh {
 namespace {
 
@@ -26,21 +30,22 @@ struct Plan {
   std::vector<PlanNode> nodes;
 };
 
-void append_corners(const Mesh& mesh, std::span<const std::uint32_t> triangles, std::vector<Vec3>& out) {
-  out.clear();
-  for (std::uint32_t t : triangles)
-    for (const Vec3& c : mesh.corners(t)) out.push_back(c);
-}
-
 class Planner {
  public:
   Planner(const Tree& tree, const Mesh& mesh, const FitOptions& fit) : tree_(tree), mesh_(mesh), fit_(fit) {}
 
   Plan run() {
-    validate();
-    plan_.order.reserve(mesh_.triangles.size());
+    check();
+    // A sound tree's leaves tile triangle_order in preorder: FCL's order is the tree's.
+    plan_.order = tree_.triangle_order;
     plan_.nodes.reserve(2 * mesh_.triangles.size());
-    visit(0);
+    const std::vector<TriangleRange> ranges = triangle_ranges(tree_);
+    for_each_node(tree_, [&](const NodeVisit& v) {
+      const TriangleRange& r = ranges[v.index];
+      if (v.node.is_leaf()) return split_leaf(v.node.box, std::uint32_t(r.begin), std::uint32_t(r.size()));
+      plan_.nodes.push_back({v.node.box, std::uint32_t(r.begin), std::uint32_t(r.size()),
+                             std::uint32_t(ranges[v.node.first].size())});
+    });
     plan_.position.assign(mesh_.triangles.size(), 0);
     for (std::uint32_t i = 0; i < plan_.order.size(); ++i) plan_.position[plan_.order[i]] = i;
     return std::move(plan_);
@@ -49,92 +54,46 @@ class Planner {
  private:
   void fail(const std::string& what) const { throw InputError("to_fcl: tree does not fit the mesh: " + what); }
 
-  // Every node reachable once, leaves in range, every triangle exactly once.
-  void validate() const {
-    const auto& nodes = tree_.nodes;
-    if (nodes.empty()) fail("no nodes");
+  // The library's structural check, plus one triangle_order entry per mesh triangle.
+  void check() const {
+    const TreeCheck structure = check_structure(tree_);
+    if (!structure.ok()) fail(structure.errors[0]);
     if (mesh_.triangles.empty()) fail("mesh has no triangles");
-    std::vector<std::uint8_t> seen_node(nodes.size(), 0), seen_tri(mesh_.triangles.size(), 0);
-    std::vector<std::uint32_t> stack{0};
-    std::size_t triangles = 0;
-    while (!stack.empty()) {
-      const std::uint32_t i = stack.back();
-      stack.pop_back();
-      if (seen_node[i]++) fail("node " + std::to_string(i) + " reached twice");
-      const Node& n = nodes[i];
-      if (!n.box.center.allFinite() || !n.box.axes.allFinite() || !n.box.half_extents.allFinite())
-        fail("node " + std::to_string(i) + " has a non-finite box");
-      if (n.is_leaf()) {
-        if (std::size_t(n.first) + n.count > tree_.triangle_order.size())
-          fail("leaf " + std::to_string(i) + " range out of triangle_order");
-        for (std::uint32_t k = n.first; k < n.first + n.count; ++k) {
-          const std::uint32_t t = tree_.triangle_order[k];
-          if (t >= mesh_.triangles.size()) fail("triangle index " + std::to_string(t) + " out of range");
-          if (seen_tri[t]++) fail("triangle " + std::to_string(t) + " in two leaves");
-          ++triangles;
-        }
-      } else {
-        if (std::size_t(n.first) + 1 >= nodes.size()) fail("node " + std::to_string(i) + " children out of range");
-        stack.push_back(n.first + 1);
-        stack.push_back(n.first);
-      }
-    }
-    if (triangles != mesh_.triangles.size())
-      fail(std::to_string(triangles) + " of " + std::to_string(mesh_.triangles.size()) + " triangles in leaves");
+    if (tree_.triangle_order.size() != mesh_.triangles.size())
+      fail(std::to_string(tree_.triangle_order.size()) + " of " + std::to_string(mesh_.triangles.size()) +
+           " triangles in leaves");
   }
 
-  void visit(std::uint32_t index) {
-    const Node& n = tree_.nodes[index];
-    const auto first = std::uint32_t(plan_.order.size());
-    if (n.is_leaf()) {
-      plan_.order.insert(plan_.order.end(), tree_.triangle_order.begin() + n.first,
-                         tree_.triangle_order.begin() + n.first + n.count);
-      split_leaf(n.box, first, n.count);
-      return;
-    }
-    const std::size_t self = plan_.nodes.size();
-    plan_.nodes.push_back({n.box, first, 0, 0});
-    visit(n.first);
-    plan_.nodes[self].left_count = std::uint32_t(plan_.order.size()) - first;
-    visit(n.first + 1);
-    plan_.nodes[self].count = std::uint32_t(plan_.order.size()) - first;
-  }
-
-  // Below one of our leaves: halve by the median centroid along the box's longest axis, down
-  // to single triangles, fitting every new box with our fitter.
+  // Below one of our leaves: the library's median split (longest box axis, ties by triangle
+  // index) down to single triangles, every new box fitted by our fitter.
   void split_leaf(const Obb& box, std::uint32_t first, std::uint32_t count) {
+    triangle_corners(mesh_, std::span(plan_.order).subspan(first, count), corners_);
+    leaf_first_ = first;
+    split_node(box, first, count);
+  }
+
+  // corners_ holds the leaf's corners in lockstep with plan_.order (the splitter permutes both).
+  void split_node(const Obb& box, std::uint32_t first, std::uint32_t count) {
     const std::size_t self = plan_.nodes.size();
     plan_.nodes.push_back({box, first, count, 0});
     if (count == 1) return;
-    int axis = 0;
-    box.half_extents.maxCoeff(&axis);
-    const Vec3 dir = box.axes.col(axis);
-    const auto begin = plan_.order.begin() + first;
-    const auto key = [&](std::uint32_t t) {
-      const auto c = mesh_.corners(t);
-      return dir.dot(c[0] + c[1] + c[2]);
-    };
-    std::sort(begin, begin + count, [&](std::uint32_t l, std::uint32_t r) {
-      const double kl = key(l), kr = key(r);
-      return kl < kr || (kl == kr && l < r);
-    });
-    const std::uint32_t half = count / 2;
+    const auto order = std::span(plan_.order).subspan(first, count);
+    const auto corners = std::span(corners_).subspan(3 * std::size_t{first - leaf_first_}, 3 * std::size_t{count});
+    const auto half = std::uint32_t(detail::split(SplitMethod::median, order, corners, box, scratch_));
     plan_.nodes[self].left_count = half;
-    const auto fit = [&](std::uint32_t f, std::uint32_t c) {
-      append_corners(mesh_, std::span(plan_.order).subspan(f, c), corners_);
-      return fit_triangles(corners_, fit_);
-    };
-    const Obb left = fit(first, half);
-    const Obb right = fit(first + half, count - half);
-    split_leaf(left, first, half);
-    split_leaf(right, first + half, count - half);
+    const Obb left = fit_triangles(corners.first(3 * std::size_t{half}), fit_);
+    const Obb right = fit_triangles(corners.subspan(3 * std::size_t{half}), fit_);
+    split_node(left, first, half);
+    split_node(right, first + half, count - half);
   }
 
   const Tree& tree_;
   const Mesh& mesh_;
   FitOptions fit_;
   Plan plan_;
-  std::vector<Vec3> corners_;
+  std::vector<Vec3> corners_;  // of the leaf being split
+  std::uint32_t leaf_first_ = 0;
+  detail::SplitScratch scratch_;
 };
 
 // FCL's builder asks its fitter for each node's box, then its splitter for the partition, in
@@ -314,7 +273,7 @@ std::shared_ptr<fcl::BVHModel<fcl::OBBRSS<double>>> to_fcl_obbrss(const Tree& tr
   bvs.reserve(plan.nodes.size());
   std::vector<Vec3> corners;
   for (const PlanNode& n : plan.nodes) {
-    append_corners(mesh, std::span(plan.order).subspan(n.first, n.count), corners);
+    triangle_corners(mesh, std::span(plan.order).subspan(n.first, n.count), corners);
     fcl::OBBRSS<double> bv;
     bv.obb = to_fcl_obb(n.box);
     bv.rss = fit_rss(n.box, corners);

@@ -26,6 +26,18 @@ constexpr std::array<std::pair<FitMethod, std::string_view>, 7> kNames{{
     {FitMethod::exact, "exact"},
 }};
 
+// The table's two columns, for all_fit_methods() and fit_method_names().
+constexpr auto kMethods = [] {
+  std::array<FitMethod, kNames.size()> out{};
+  for (std::size_t i = 0; i < kNames.size(); ++i) out[i] = kNames[i].first;
+  return out;
+}();
+constexpr auto kMethodNames = [] {
+  std::array<std::string_view, kNames.size()> out{};
+  for (std::size_t i = 0; i < kNames.size(); ++i) out[i] = kNames[i].second;
+  return out;
+}();
+
 // approx-snap's default epsilon when none is given.
 constexpr double kDefaultSnapEpsilon = 0.1;
 
@@ -188,6 +200,9 @@ std::string_view to_string(FitMethod method) {
     if (m == method) return text;
   return "unknown";
 }
+
+std::span<const FitMethod> all_fit_methods() { return kMethods; }
+std::span<const std::string_view> fit_method_names() { return kMethodNames; }
 
 // e -> k. The proof of Theorem 6.4.3 needs k = c/e with a constant c that is far too
 // pessimistic in practice (m = max(4/e, 6) and grid cells of 1/(10m + 20) of the optimum).

@@ -27,6 +27,12 @@ std::string to_string(const Fitter& fitter) {
   return "auto";
 }
 
+std::vector<std::string_view> fitter_names() {
+  std::vector<std::string_view> names{"auto"};
+  for (const std::string_view name : fit_method_names()) names.push_back(name);
+  return names;
+}
+
 namespace {
 
 using Index = std::uint32_t;
@@ -74,10 +80,7 @@ struct Scratch {
 class Builder {
  public:
   Builder(const Mesh& mesh, const BuildOptions& options, std::vector<Index>& order)
-      : options_(options), order_(order), corners_(3 * mesh.triangles.size()) {
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-      for (int k = 0; k < 3; ++k) corners_[3 * t + k] = mesh.vertices[mesh.triangles[t][k]];
-  }
+      : options_(options), order_(order), corners_(triangle_corners(mesh)) {}
 
   // Fits the node's box; returns the split point (begin < mid < end), or `end` for a leaf.
   Index process(Node& node, Index begin, Index end, Scratch& scratch) {

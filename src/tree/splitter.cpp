@@ -13,6 +13,17 @@ constexpr std::array<std::pair<SplitMethod, std::string_view>, 3> kNames{{
     {SplitMethod::median, "median"},
     {SplitMethod::binned, "binned"},
 }};
+// The table's two columns, for all_split_methods() and split_method_names().
+constexpr auto kMethods = [] {
+  std::array<SplitMethod, kNames.size()> out{};
+  for (std::size_t i = 0; i < kNames.size(); ++i) out[i] = kNames[i].first;
+  return out;
+}();
+constexpr auto kMethodNames = [] {
+  std::array<std::string_view, kNames.size()> out{};
+  for (std::size_t i = 0; i < kNames.size(); ++i) out[i] = kNames[i].second;
+  return out;
+}();
 }  // namespace
 
 std::optional<SplitMethod> parse_split_method(std::string_view name) {
@@ -27,6 +38,9 @@ std::string_view to_string(SplitMethod method) {
     if (m == method) return text;
   return "unknown";
 }
+
+std::span<const SplitMethod> all_split_methods() { return kMethods; }
+std::span<const std::string_view> split_method_names() { return kMethodNames; }
 
 namespace detail {
 namespace {

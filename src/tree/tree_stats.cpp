@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <limits>
-#include <utility>
+
+#include "tightbvh/tree_walk.hpp"
 
 namespace tightbvh {
 
@@ -16,26 +17,19 @@ TreeStats tree_stats(const Tree& tree) {
   s.depth_min = std::numeric_limits<std::size_t>::max();
   s.leaf_triangles_min = std::numeric_limits<std::size_t>::max();
   std::size_t leaf_triangles = 0;
-  std::vector<std::pair<std::uint32_t, std::size_t>> stack{{0, 0}};  // node, depth
-  while (!stack.empty()) {
-    const auto [index, depth] = stack.back();
-    stack.pop_back();
-    const Node& node = tree.nodes[index];
-    if (s.volume_per_level.size() <= depth) s.volume_per_level.resize(depth + 1, 0.0);
-    s.volume_per_level[depth] += node.box.volume();
-    s.sum_volume += node.box.volume();
-    if (node.is_leaf()) {
-      ++s.leaves;
-      s.depth_min = std::min(s.depth_min, depth);
-      s.depth_max = std::max(s.depth_max, depth);
-      s.leaf_triangles_min = std::min<std::size_t>(s.leaf_triangles_min, node.count);
-      s.leaf_triangles_max = std::max<std::size_t>(s.leaf_triangles_max, node.count);
-      leaf_triangles += node.count;
-    } else {
-      stack.push_back({node.first + 1, depth + 1});
-      stack.push_back({node.first, depth + 1});
-    }
-  }
+  for_each_node(tree, [&](const NodeVisit& v) {
+    const double volume = v.node.box.volume();
+    if (s.volume_per_level.size() <= v.depth) s.volume_per_level.resize(v.depth + 1, 0.0);
+    s.volume_per_level[v.depth] += volume;
+    s.sum_volume += volume;
+    if (!v.node.is_leaf()) return;
+    ++s.leaves;
+    s.depth_min = std::min(s.depth_min, v.depth);
+    s.depth_max = std::max(s.depth_max, v.depth);
+    s.leaf_triangles_min = std::min<std::size_t>(s.leaf_triangles_min, v.node.count);
+    s.leaf_triangles_max = std::max<std::size_t>(s.leaf_triangles_max, v.node.count);
+    leaf_triangles += v.node.count;
+  });
   s.leaf_triangles_avg = static_cast<double>(leaf_triangles) / static_cast<double>(s.leaves);
   return s;
 }

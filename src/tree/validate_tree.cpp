@@ -49,7 +49,8 @@ class Checker {
 
     for (std::size_t i = 0; i < nodes.size() && !full(); ++i) box(i, nodes[i].box);
 
-    // Depth-first from the root: every node reached exactly once.
+    // Depth-first from the root: every node reached exactly once. Not for_each_node
+    // (tree_walk.hpp): that walk trusts the structure this one checks, a cycle would never end.
     std::vector<char> visited(nodes.size(), 0);
     std::vector<std::uint32_t> preorder;
     preorder.reserve(nodes.size());
@@ -90,7 +91,8 @@ class Checker {
       return;
     }
 
-    // Triangle ranges bottom-up (reverse preorder visits children before parents).
+    // Triangle ranges bottom-up (reverse preorder visits children before parents); as
+    // triangle_ranges (tree_walk.hpp), but checking that the children's ranges are adjacent.
     ranges_.assign(nodes.size(), {});
     for (auto it = preorder.rbegin(); it != preorder.rend() && !full(); ++it) {
       const Node& node = nodes[*it];

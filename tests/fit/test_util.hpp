@@ -39,12 +39,7 @@ inline std::vector<Vec3> mesh_vertices(const std::string& relative) {
 inline std::vector<Vec3> mesh_corners(const std::string& relative) {
   const auto path = source_dir() / relative;
   if (!std::filesystem::exists(path)) return {};
-  const Mesh mesh = load_mesh(path);
-  std::vector<Vec3> corners;
-  corners.reserve(mesh.triangles.size() * 3);
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-    for (const Vec3& c : mesh.corners(t)) corners.push_back(c);
-  return corners;
+  return triangle_corners(load_mesh(path));
 }
 
 // Orthonormal, right-handed, finite; every point inside with the relative tolerance.

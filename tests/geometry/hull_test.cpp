@@ -585,8 +585,7 @@ TEST(Hull2, NearlyCollinearSetsGiveAStrictlyConvexHullOfTheInput) {
 TEST(Hull2, ElephantTrianglesThatOverflowedTheChain) {
   const Mesh mesh = load_mesh(std::string(TIGHTBVH_SOURCE_DIR) + "/meshes/elephant.off");
   std::vector<Vec3> corners;
-  for (const std::size_t t : {3984u, 3985u})
-    for (const Vec3& c : mesh.corners(t)) corners.push_back(c);
+  triangle_corners(mesh, std::vector<std::uint32_t>{3984, 3985}, corners);
   for (const FitMethod method : {FitMethod::diameter, FitMethod::approx, FitMethod::exact}) {
     const Obb box = fit_triangles(corners, {.method = method});
     for (const Vec3& c : corners) EXPECT_TRUE(box.contains(c, containment_tolerance(box))) << to_string(method);

@@ -235,6 +235,34 @@ TEST(BuildOptionsTest, ParseFitter) {
   EXPECT_FALSE(parse_split_method("middle"));
 }
 
+// The name tables: every entry parses back to itself, in declaration order, and the fitter
+// names are "auto" then the fit methods.
+TEST(BuildOptionsTest, NameTablesRoundTrip) {
+  ASSERT_EQ(all_fit_methods().size(), std::size(test::kAllMethods));
+  ASSERT_EQ(fit_method_names().size(), all_fit_methods().size());
+  for (std::size_t i = 0; i < all_fit_methods().size(); ++i) {
+    EXPECT_EQ(all_fit_methods()[i], test::kAllMethods[i]);
+    EXPECT_EQ(fit_method_names()[i], to_string(all_fit_methods()[i]));
+    EXPECT_EQ(parse_fit_method(fit_method_names()[i]), all_fit_methods()[i]);
+  }
+  const std::vector<std::string_view> fitters = fitter_names();
+  ASSERT_EQ(fitters.size(), fit_method_names().size() + 1);
+  EXPECT_EQ(fitters[0], "auto");
+  for (const std::string_view name : fitters) {
+    const auto fitter = parse_fitter(name);
+    ASSERT_TRUE(fitter) << name;
+    EXPECT_EQ(to_string(*fitter), name);
+  }
+  const SplitMethod splits[] = {SplitMethod::rapid, SplitMethod::median, SplitMethod::binned};
+  ASSERT_EQ(all_split_methods().size(), std::size(splits));
+  ASSERT_EQ(split_method_names().size(), std::size(splits));
+  for (std::size_t i = 0; i < std::size(splits); ++i) {
+    EXPECT_EQ(all_split_methods()[i], splits[i]);
+    EXPECT_EQ(split_method_names()[i], to_string(splits[i]));
+    EXPECT_EQ(parse_split_method(split_method_names()[i]), splits[i]);
+  }
+}
+
 TEST(BuildOptionsTest, AutoUsesTightFitterAboveThreshold) {
   // auto with tight = aabb, cheap = pca: nodes at or above the threshold are axis-aligned.
   const Mesh mesh = load_relative("meshes/elephant.off");

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@
 #include "derived_meshes.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/hull.hpp"
+#include "tightbvh/tree_walk.hpp"
 #include "tightbvh/validate_tree.hpp"
 
 namespace tightbvh {
@@ -33,19 +35,12 @@ bool full_sweep() {
 constexpr FitMethod kMethods[] = {FitMethod::aabb,   FitMethod::pca,         FitMethod::pca_vertex, FitMethod::diameter,
                                   FitMethod::approx, FitMethod::approx_snap, FitMethod::exact};
 
-// The triangle corners below each node (a subtree owns a contiguous range of triangle_order).
+// The triangle corners below each node.
 std::vector<std::vector<Vec3>> node_corners(const Tree& tree, const Mesh& mesh) {
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> range(tree.nodes.size());
-  // Children come after their parent: a reverse sweep sees both children before the parent.
-  for (std::size_t n = tree.nodes.size(); n-- > 0;) {
-    const Node& node = tree.nodes[n];
-    range[n] = node.is_leaf() ? std::pair{node.first, node.first + node.count}
-                              : std::pair{range[node.first].first, range[node.first + 1].second};
-  }
+  const std::vector<TriangleRange> ranges = triangle_ranges(tree);
   std::vector<std::vector<Vec3>> out(tree.nodes.size());
   for (std::size_t n = 0; n < tree.nodes.size(); ++n)
-    for (std::uint32_t i = range[n].first; i < range[n].second; ++i)
-      for (const Vec3& c : mesh.corners(tree.triangle_order[i])) out[n].push_back(c);
+    triangle_corners(mesh, std::span(tree.triangle_order).subspan(ranges[n].begin, ranges[n].size()), out[n]);
   return out;
 }
 

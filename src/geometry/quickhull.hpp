@@ -122,27 +122,28 @@ class Quickhull {
   std::uint32_t next_plane_id_ = 0;
   std::size_t live_ = 0;  // points in outside sets of live faces
 
-  // Documented at their definitions (quickhull.cpp).
-  std::uint32_t new_face(std::uint32_t a, std::uint32_t b, std::uint32_t c);
-  bool coplanar(std::uint32_t f, std::uint32_t g) const;
+  // Documented at their definitions (quickhull.cpp). Declared inline, as they were when defined
+  // in the class: the same inlining as before the split (only quickhull.cpp calls them).
+  inline std::uint32_t new_face(std::uint32_t a, std::uint32_t b, std::uint32_t c);
+  inline bool coplanar(std::uint32_t f, std::uint32_t g) const;
 
-  bool remove_vertex(std::uint32_t v);
-  bool attach(std::uint32_t a, std::uint32_t b, std::uint32_t outer);
-  bool triangulate(std::uint32_t plane_face);
-  void add_triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t plane_id);
+  inline bool remove_vertex(std::uint32_t v);
+  inline bool attach(std::uint32_t a, std::uint32_t b, std::uint32_t outer);
+  inline bool triangulate(std::uint32_t plane_face);
+  inline void add_triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t plane_id);
 
   // Ranks outside points: by distance, and among (nearly) equally far ones the lexicographically
   // largest, which is a vertex of their hull: ties along a line or plane parallel to the face
   // (ruled and flat CAD surfaces) then pick an end point, not one that later lies on an edge.
   static constexpr double kTie = 1e-12;
-  static bool farther(const Vec3& a, double a_value, const Vec3& b, double b_value);
-  void claim(std::uint32_t f);
-  void compact_pool();
-  static std::uint32_t slot_of_edge(const Face& face, std::uint32_t from, std::uint32_t to);
-  void start(std::array<std::uint32_t, 4> t);
-  void find_visible(std::uint32_t seed, std::uint32_t apex, std::uint32_t stamp);
-  void order_horizon();
-  void add_point(std::uint32_t seed, std::uint32_t apex, std::uint32_t stamp);
+  static inline bool farther(const Vec3& a, double a_value, const Vec3& b, double b_value);
+  inline void claim(std::uint32_t f);
+  inline void compact_pool();
+  static inline std::uint32_t slot_of_edge(const Face& face, std::uint32_t from, std::uint32_t to);
+  inline void start(std::array<std::uint32_t, 4> t);
+  inline void find_visible(std::uint32_t seed, std::uint32_t apex, std::uint32_t stamp);
+  inline void order_horizon();
+  inline void add_point(std::uint32_t seed, std::uint32_t apex, std::uint32_t stamp);
 };
 
 }  // namespace quickhull

@@ -2,10 +2,12 @@
 // on the same poses, every answer checked against our exact reference.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -59,13 +61,8 @@ struct Progress {
   }
 };
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"tightbvh-bench: tree-vs-tree collision queries, tightbvh vs FCL, Bullet and ODE"};
-  // A later occurrence of an option overrides an earlier one, so scripts/run can pass defaults
-  // and let its own arguments override them.
-  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+// ------------------------------------------------------------------------ option parsing
+struct Options {
   std::string mesh_a = default_mesh("elephant.off"), mesh_b = default_mesh("knot1.off");
   std::string engines_arg = "all", scenario_arg = "all", modes_arg = "first_hit,all_pairs";
   std::string poses_file, write_poses_file, json_file, csv_file, report_dir;
@@ -73,186 +70,261 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   double budget = 1.0;
   bool list = false;
-  app.add_option("--mesh-a", mesh_a, "mesh A (stays at identity)")->capture_default_str();
-  app.add_option("--mesh-b", mesh_b, "mesh B (moved by each pose)")->capture_default_str();
-  app.add_option("--engines", engines_arg, "comma-separated engines, or 'all' (see --list-engines)")
+};
+
+void add_options(CLI::App& app, Options& o) {
+  // A later occurrence of an option overrides an earlier one, so scripts/run can pass defaults
+  // and let its own arguments override them.
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  app.add_option("--mesh-a", o.mesh_a, "mesh A (stays at identity)")->capture_default_str();
+  app.add_option("--mesh-b", o.mesh_b, "mesh B (moved by each pose)")->capture_default_str();
+  app.add_option("--engines", o.engines_arg, "comma-separated engines, or 'all' (see --list-engines)")
       ->capture_default_str();
-  app.add_option("--poses", poses, "poses per scenario")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--seed", seed, "random seed of the generated poses")->capture_default_str();
-  app.add_option("--scenario", scenario_arg, "overlap | near | separated | all")->capture_default_str();
-  app.add_option("--poses-file", poses_file, "read poses (12 numbers a line) instead of generating them");
-  app.add_option("--write-poses", write_poses_file, "save the generated poses");
-  app.add_option("--modes", modes_arg, "first_hit,all_pairs")->capture_default_str();
-  app.add_option("--repetitions", repetitions, "timed passes (median reported)")
+  app.add_option("--poses", o.poses, "poses per scenario")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--seed", o.seed, "random seed of the generated poses")->capture_default_str();
+  app.add_option("--scenario", o.scenario_arg, "overlap | near | separated | all")->capture_default_str();
+  app.add_option("--poses-file", o.poses_file, "read poses (12 numbers a line) instead of generating them");
+  app.add_option("--write-poses", o.write_poses_file, "save the generated poses");
+  app.add_option("--modes", o.modes_arg, "first_hit,all_pairs")->capture_default_str();
+  app.add_option("--repetitions", o.repetitions, "timed passes (median reported)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  app.add_option("--budget", budget, "seconds after which no further timed pass starts")->capture_default_str();
-  app.add_option("--json", json_file, "write results as JSON");
-  app.add_option("--csv", csv_file, "write results as CSV");
-  app.add_option("--report", report_dir, "write an HTML report (index.html) into this folder");
-  app.add_flag("--list-engines", list, "list the engines and what they support");
+  app.add_option("--budget", o.budget, "seconds after which no further timed pass starts")->capture_default_str();
+  app.add_option("--json", o.json_file, "write results as JSON");
+  app.add_option("--csv", o.csv_file, "write results as CSV");
+  app.add_option("--report", o.report_dir, "write an HTML report (index.html) into this folder");
+  app.add_flag("--list-engines", o.list, "list the engines and what they support");
+}
+
+// What to run: engines, modes, scenarios (nullopt = poses from the file).
+struct Selection {
+  std::vector<tb::EngineInfo> engines;
+  std::vector<tb::Mode> modes;
+  std::vector<std::optional<tb::Scenario>> scenarios;
+};
+
+// The selection named by the options; nullopt after printing the error for an unknown name
+// (unknown names are an error, not silently skipped).
+std::optional<Selection> parse_selection(const Options& o, std::vector<tb::EngineInfo> engines) {
+  Selection sel;
+  if (o.engines_arg != "all") {
+    for (const auto& name : split_list(o.engines_arg)) {
+      auto it = std::find_if(engines.begin(), engines.end(), [&](const auto& e) { return e.name == name; });
+      if (it == engines.end()) {
+        std::string known;
+        for (const auto& e : engines) known += " " + e.name;
+        std::cerr << "tightbvh-bench: unknown engine '" << name << "'; known:" << known << "\n";
+        return std::nullopt;
+      }
+      sel.engines.push_back(*it);
+    }
+  } else {
+    sel.engines = std::move(engines);
+  }
+  for (const auto& m : split_list(o.modes_arg)) {
+    if (m == "first_hit") sel.modes.push_back(tb::Mode::first_hit);
+    else if (m == "all_pairs") sel.modes.push_back(tb::Mode::all_pairs);
+    else {
+      std::cerr << "tightbvh-bench: unknown mode '" << m << "' (first_hit, all_pairs)\n";
+      return std::nullopt;
+    }
+  }
+  if (!o.poses_file.empty()) {
+    sel.scenarios.push_back(std::nullopt);
+  } else if (o.scenario_arg == "all") {
+    sel.scenarios = {tb::Scenario::overlap, tb::Scenario::near, tb::Scenario::separated};
+  } else if (auto s = tb::parse_scenario(o.scenario_arg)) {
+    sel.scenarios.push_back(*s);
+  } else {
+    std::cerr << "tightbvh-bench: unknown scenario '" << o.scenario_arg << "' (overlap, near, separated, all)\n";
+    return std::nullopt;
+  }
+  return sel;
+}
+
+// ------------------------------------------------------------------------ loading
+tb::Input load_input(const Options& o) {
+  tb::Input input;
+  input.name_a = std::filesystem::path(o.mesh_a).filename().string();
+  input.name_b = std::filesystem::path(o.mesh_b).filename().string();
+  input.a = tightbvh::load_mesh(o.mesh_a);
+  input.b = tightbvh::load_mesh(o.mesh_b);
+  input.scale = std::max(tightbvh::bounds_of(input.a.vertices).diagonal(), tightbvh::bounds_of(input.b.vertices).diagonal());
+  return input;
+}
+
+// ------------------------------------------------------------------------ running
+// One engine in one mode on one scenario's poses.
+struct Job {
+  const tb::EngineInfo* info;
+  tb::Prepared* engine;
+  tb::Mode mode;
+  tb::Answers answers;
+  std::vector<double> times;
+  double spent = 0;
+  int inner = 1;  // passes per sample, so that a sample lasts >= kMinSample
+};
+
+// All scenarios of one run; engines are built once and kept across scenarios.
+class Run {
+ public:
+  Run(const Options& o, const Selection& sel, const tb::Input& input, const tb::Reference& reference,
+      const Progress& progress, tb::RunInfo& info)
+      : o_(o), sel_(sel), input_(input), reference_(reference), progress_(progress), info_(info) {}
+
+  void scenario(const std::optional<tb::Scenario>& scenario) {
+    const std::string sname = scenario ? std::string(tb::to_string(*scenario)) : "file";
+    progress_.show(sname + ": poses", 0);
+    const std::vector<Pose> ps =
+        scenario ? tb::generate_poses(input_.a, input_.b, *scenario, o_.poses, o_.seed,
+                                      [&](const Pose& p) { return reference_.collides(p); })
+                 : tb::read_poses(o_.poses_file);
+    if (!scenario) info_.poses = int(ps.size());
+    if (!o_.write_poses_file.empty()) written.insert(written.end(), ps.begin(), ps.end());
+    std::vector<std::vector<tb::Pair>> ref_pairs(ps.size());
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      ref_pairs[i] = reference_.pairs(ps[i]);
+      progress_.show(sname + ": reference", double(i + 1) / ps.size());
+    }
+    std::vector<Job> jobs = prepare(sname, ps);
+    time_passes(sname, ps, jobs);
+    add_rows(sname, ps, jobs, ref_pairs);
+  }
+
+  std::map<std::string, std::unique_ptr<tb::Prepared>> built;
+  std::vector<tb::Row> rows;
+  std::vector<Pose> written;
+
+ private:
+  // Build (once per engine), then the checked warm-up pass of every engine and mode.
+  std::vector<Job> prepare(const std::string& sname, const std::vector<Pose>& ps) {
+    std::vector<Job> jobs;
+    for (const auto& e : sel_.engines) {
+      if (failed_.count(e.name)) continue;
+      if (!built.count(e.name)) {
+        progress_.show(e.name + ": build", 0);
+        try {
+          built[e.name] = e.build(input_);
+        } catch (const std::exception& ex) {
+          failed_.insert(e.name);
+          info_.notes.push_back(e.name + ": NOT RUN, build failed: " + ex.what());
+          continue;
+        }
+      }
+      for (tb::Mode mode : sel_.modes) {
+        if ((mode == tb::Mode::first_hit && !e.first_hit) || (mode == tb::Mode::all_pairs && !e.all_pairs)) continue;
+        progress_.show(sname + ": " + e.name + " " + tb::to_string(mode) + " (checked pass)", 0);
+        jobs.push_back({&e, built[e.name].get(), mode, built[e.name]->answer(mode, ps), {}, 0, 1});
+        // Calibration: a pass long enough already counts as the first sample.
+        Job& job = jobs.back();
+        const double once = job.engine->pass(mode, ps, 1);
+        job.inner = std::clamp(int(std::ceil(kMinSample / std::max(once, 1e-9))), 1, 1000);
+        if (job.inner == 1) {
+          job.times.push_back(once);
+          job.spent = once;
+        }
+      }
+    }
+    return jobs;
+  }
+
+  // Timed passes round-robin over the engines, so that load from elsewhere on the machine
+  // hits every engine alike; an engine stops adding passes once its budget is spent.
+  void time_passes(const std::string& sname, const std::vector<Pose>& ps, std::vector<Job>& jobs) const {
+    const int repetitions = o_.repetitions;
+    for (int r = 0; r < repetitions; ++r) {
+      for (std::size_t j = 0; j < jobs.size(); ++j) {
+        Job& job = jobs[j];
+        if (int(job.times.size()) >= repetitions || (!job.times.empty() && job.spent > o_.budget)) continue;
+        progress_.show(sname + ": timing", (double(r) * jobs.size() + j + 1) / (double(repetitions) * jobs.size()));
+        const double dt = job.engine->pass(job.mode, ps, job.inner);
+        job.times.push_back(dt);
+        job.spent += dt * job.inner;
+      }
+    }
+  }
+
+  void add_rows(const std::string& sname, const std::vector<Pose>& ps, const std::vector<Job>& jobs,
+                const std::vector<std::vector<tb::Pair>>& ref_pairs) {
+    for (const Job& job : jobs) {
+      tb::Row row{sname, job.info->name, job.mode, job.engine->build_seconds, ps.size(), tb::median(job.times),
+                  int(job.times.size()), 0, 0, {}, {}};
+      for (std::size_t i = 0; i < ps.size(); ++i) {
+        row.hits += job.answers.hit[i];
+        if (job.mode == tb::Mode::all_pairs) row.pairs += job.answers.pairs[i].size();
+      }
+      row.agreement = tb::compare(input_, job.mode, job.answers, ref_pairs, ps, info_.tolerance);
+      rows.push_back(std::move(row));
+    }
+    // The reference itself, for the hit and pair counts every engine is compared to.
+    tb::Row ref_row{sname, "reference", tb::Mode::all_pairs, 0, ps.size(), 0, 0, 0, 0, {}, {}};
+    for (const auto& p : ref_pairs) {
+      ref_row.hits += p.empty() ? 0 : 1;
+      ref_row.pairs += p.size();
+    }
+    rows.push_back(ref_row);
+  }
+
+  const Options& o_;
+  const Selection& sel_;
+  const tb::Input& input_;
+  const tb::Reference& reference_;
+  const Progress& progress_;
+  tb::RunInfo& info_;
+  std::set<std::string> failed_;
+};
+
+// ------------------------------------------------------------------------ output
+void write_outputs(const Options& o, const tb::Input& input, const tb::RunInfo& info, Run& run) {
+  if (!o.write_poses_file.empty())
+    tb::write_poses(o.write_poses_file, run.written,
+                    "tightbvh-bench poses: A=" + input.name_a + " B=" + input.name_b + " scenario=" + o.scenario_arg +
+                        " seed=" + std::to_string(o.seed));
+  for (const std::string& f : {o.json_file, o.csv_file})
+    if (!f.empty() && std::filesystem::path(f).has_parent_path())
+      std::filesystem::create_directories(std::filesystem::path(f).parent_path());
+  tb::fill_ratios(run.rows);
+  tb::print_table(std::cout, info, run.rows);
+  if (!o.json_file.empty()) tb::write_json(o.json_file, info, run.rows);
+  if (!o.csv_file.empty()) tb::write_csv(o.csv_file, info, run.rows);
+  if (!o.report_dir.empty()) tb::write_report(o.report_dir, info, run.rows, input);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"tightbvh-bench: tree-vs-tree collision queries, tightbvh vs FCL, Bullet and ODE"};
+  Options o;
+  add_options(app, o);
   CLI11_PARSE(app, argc, argv);
 
   try {
     auto engines = all_engines();
-    if (list) {
+    if (o.list) {
       for (const auto& e : engines)
         std::printf("%-18s first_hit:%-3s all_pairs:%-3s %s\n", e.name.c_str(), e.first_hit ? "yes" : "no",
                     e.all_pairs ? "yes" : "no", e.note.c_str());
       return 0;
     }
-    // Engine selection: unknown names are an error, not silently skipped.
-    if (engines_arg != "all") {
-      std::vector<tb::EngineInfo> chosen;
-      for (const auto& name : split_list(engines_arg)) {
-        auto it = std::find_if(engines.begin(), engines.end(), [&](const auto& e) { return e.name == name; });
-        if (it == engines.end()) {
-          std::string known;
-          for (const auto& e : engines) known += " " + e.name;
-          std::cerr << "tightbvh-bench: unknown engine '" << name << "'; known:" << known << "\n";
-          return 2;
-        }
-        chosen.push_back(*it);
-      }
-      engines = std::move(chosen);
-    }
-    std::vector<tb::Mode> modes;
-    for (const auto& m : split_list(modes_arg)) {
-      if (m == "first_hit") modes.push_back(tb::Mode::first_hit);
-      else if (m == "all_pairs") modes.push_back(tb::Mode::all_pairs);
-      else {
-        std::cerr << "tightbvh-bench: unknown mode '" << m << "' (first_hit, all_pairs)\n";
-        return 2;
-      }
-    }
-    std::vector<std::optional<tb::Scenario>> scenarios;  // nullopt = poses from the file
-    if (!poses_file.empty()) {
-      scenarios.push_back(std::nullopt);
-    } else if (scenario_arg == "all") {
-      scenarios = {tb::Scenario::overlap, tb::Scenario::near, tb::Scenario::separated};
-    } else if (auto s = tb::parse_scenario(scenario_arg)) {
-      scenarios.push_back(*s);
-    } else {
-      std::cerr << "tightbvh-bench: unknown scenario '" << scenario_arg << "' (overlap, near, separated, all)\n";
-      return 2;
-    }
+    const std::optional<Selection> sel = parse_selection(o, std::move(engines));
+    if (!sel) return 2;
 
-    tb::Input input;
-    input.name_a = std::filesystem::path(mesh_a).filename().string();
-    input.name_b = std::filesystem::path(mesh_b).filename().string();
-    input.a = tightbvh::load_mesh(mesh_a);
-    input.b = tightbvh::load_mesh(mesh_b);
-    input.scale = std::max(tightbvh::bounds_of(input.a.vertices).diagonal(), tightbvh::bounds_of(input.b.vertices).diagonal());
+    const tb::Input input = load_input(o);
     const double tolerance = 1e-9 * input.scale;
-
     const Progress progress;
     progress.show("building the reference", 0);
     const tb::Reference reference(input);
-    tb::RunInfo info{input.name_a, input.name_b, poses_file.empty() ? scenario_arg : "file", reference.description(),
-                     input.a.triangles.size(), input.b.triangles.size(), poses, seed, tolerance, repetitions, {}};
-    for (const auto& e : engines)
+    tb::RunInfo info{input.name_a, input.name_b, o.poses_file.empty() ? o.scenario_arg : "file", reference.description(),
+                     input.a.triangles.size(), input.b.triangles.size(), o.poses, o.seed, tolerance, o.repetitions, {}};
+    for (const auto& e : sel->engines)
       if (!e.note.empty()) info.notes.push_back(e.name + ": " + e.note);
 
-    std::map<std::string, std::unique_ptr<tb::Prepared>> built;
-    std::set<std::string> failed;
-    std::vector<tb::Row> rows;
-    std::vector<Pose> written;
-    for (const auto& scenario : scenarios) {
-      const std::string sname = scenario ? std::string(tb::to_string(*scenario)) : "file";
-      progress.show(sname + ": poses", 0);
-      const std::vector<Pose> ps =
-          scenario ? tb::generate_poses(input.a, input.b, *scenario, poses, seed,
-                                        [&](const Pose& p) { return reference.collides(p); })
-                   : tb::read_poses(poses_file);
-      if (!scenario) info.poses = int(ps.size());
-      if (!write_poses_file.empty()) written.insert(written.end(), ps.begin(), ps.end());
-      std::vector<std::vector<tb::Pair>> ref_pairs(ps.size());
-      for (std::size_t i = 0; i < ps.size(); ++i) {
-        ref_pairs[i] = reference.pairs(ps[i]);
-        progress.show(sname + ": reference", double(i + 1) / ps.size());
-      }
-      // Build (once per engine), then the checked warm-up pass of every engine and mode.
-      struct Job {
-        const tb::EngineInfo* info;
-        tb::Prepared* engine;
-        tb::Mode mode;
-        tb::Answers answers;
-        std::vector<double> times;
-        double spent = 0;
-        int inner = 1;  // passes per sample, so that a sample lasts >= kMinSample
-      };
-      std::vector<Job> jobs;
-      for (const auto& e : engines) {
-        if (failed.count(e.name)) continue;
-        if (!built.count(e.name)) {
-          progress.show(e.name + ": build", 0);
-          try {
-            built[e.name] = e.build(input);
-          } catch (const std::exception& ex) {
-            failed.insert(e.name);
-            info.notes.push_back(e.name + ": NOT RUN, build failed: " + ex.what());
-            continue;
-          }
-        }
-        for (tb::Mode mode : modes) {
-          if ((mode == tb::Mode::first_hit && !e.first_hit) || (mode == tb::Mode::all_pairs && !e.all_pairs)) continue;
-          progress.show(sname + ": " + e.name + " " + tb::to_string(mode) + " (checked pass)", 0);
-          jobs.push_back({&e, built[e.name].get(), mode, built[e.name]->answer(mode, ps), {}, 0, 1});
-          // Calibration: a pass long enough already counts as the first sample.
-          Job& job = jobs.back();
-          const double once = job.engine->pass(mode, ps, 1);
-          job.inner = std::clamp(int(std::ceil(kMinSample / std::max(once, 1e-9))), 1, 1000);
-          if (job.inner == 1) {
-            job.times.push_back(once);
-            job.spent = once;
-          }
-        }
-      }
-      // Timed passes round-robin over the engines, so that load from elsewhere on the machine
-      // hits every engine alike; an engine stops adding passes once its budget is spent.
-      for (int r = 0; r < repetitions; ++r) {
-        for (std::size_t j = 0; j < jobs.size(); ++j) {
-          Job& job = jobs[j];
-          if (int(job.times.size()) >= repetitions || (!job.times.empty() && job.spent > budget)) continue;
-          progress.show(sname + ": timing", (double(r) * jobs.size() + j + 1) / (double(repetitions) * jobs.size()));
-          const double dt = job.engine->pass(job.mode, ps, job.inner);
-          job.times.push_back(dt);
-          job.spent += dt * job.inner;
-        }
-      }
-      for (Job& job : jobs) {
-        tb::Row row{sname, job.info->name, job.mode, job.engine->build_seconds, ps.size(), tb::median(job.times),
-                    int(job.times.size()), 0, 0, {}, {}};
-        for (std::size_t i = 0; i < ps.size(); ++i) {
-          row.hits += job.answers.hit[i];
-          if (job.mode == tb::Mode::all_pairs) row.pairs += job.answers.pairs[i].size();
-        }
-        row.agreement = tb::compare(input, job.mode, job.answers, ref_pairs, ps, tolerance);
-        rows.push_back(std::move(row));
-      }
-      // The reference itself, for the hit and pair counts every engine is compared to.
-      tb::Row ref_row{sname, "reference", tb::Mode::all_pairs, 0, ps.size(), 0, 0, 0, 0, {}, {}};
-      for (const auto& p : ref_pairs) {
-        ref_row.hits += p.empty() ? 0 : 1;
-        ref_row.pairs += p.size();
-      }
-      rows.push_back(ref_row);
-    }
+    Run run(o, *sel, input, reference, progress, info);
+    for (const auto& scenario : sel->scenarios) run.scenario(scenario);
     progress.done();
-    for (const auto& [name, engine] : built)
+    for (const auto& [name, engine] : run.built)
       if (auto st = engine->stats(); !st.empty()) info.notes.push_back(name + ": " + st);
-    if (!write_poses_file.empty())
-      tb::write_poses(write_poses_file, written,
-                      "tightbvh-bench poses: A=" + input.name_a + " B=" + input.name_b + " scenario=" + scenario_arg +
-                          " seed=" + std::to_string(seed));
-    for (const std::string& f : {json_file, csv_file})
-      if (!f.empty() && std::filesystem::path(f).has_parent_path())
-        std::filesystem::create_directories(std::filesystem::path(f).parent_path());
-    tb::fill_ratios(rows);
-    tb::print_table(std::cout, info, rows);
-    if (!json_file.empty()) tb::write_json(json_file, info, rows);
-    if (!csv_file.empty()) tb::write_csv(csv_file, info, rows);
-    if (!report_dir.empty()) tb::write_report(report_dir, info, rows, input);
+    write_outputs(o, input, info, run);
   } catch (const tightbvh::InputError& e) {
     std::cerr << "tightbvh-bench: " << e.what() << "\n";
     return 1;

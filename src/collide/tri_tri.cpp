@@ -12,6 +12,7 @@
 namespace tightbvh {
 namespace {
 
+using detail::collinear;
 using detail::OrientPlane;
 using detail::orient3d;
 
@@ -48,11 +49,6 @@ struct P2 {
   for (const int axis : order)
     if (projected_orientation(a, b, c, axis) != 0) return axis;
   return order[0];  // unreachable for non-collinear points
-}
-
-[[nodiscard]] bool collinear(const Vec3& a, const Vec3& b, const Vec3& c) {
-  return projected_orientation(a, b, c, 0) == 0 && projected_orientation(a, b, c, 1) == 0 &&
-         projected_orientation(a, b, c, 2) == 0;
 }
 
 [[nodiscard]] inline bool same_strict_side(int u, int v) { return u * v > 0; }

@@ -86,33 +86,6 @@ bool distinct_small(std::span<const Vec3> points, std::size_t limit, std::vector
   return out.size() <= limit;
 }
 
-// ApproxMinVolBbx (Section 6.3, Fig. 6.2): snap the hull vertices to the 8 corners of their
-// cell of G = Grid(B_eps / 2), B_eps = (eps / 200) B*(S), then the exact box of the snapped hull.
-Mat3 snap_axes(FitWorkspace::Scratch& s, double epsilon) {
-  using namespace fit_detail;
-  const AxisBox bstar = lemma_box(s.geometry, s.bopt);
-  const Vec3 cell = (bstar.hi - bstar.lo) * (epsilon / 400.0);
-  s.cells.clear();
-  for (const Vec3& p : s.geometry.local) {
-    const Vec3 q = (bstar.axes.transpose() * p - bstar.lo).cwiseQuotient(cell);
-    const std::array<std::int64_t, 3> base{static_cast<std::int64_t>(std::floor(q.x())),
-                                           static_cast<std::int64_t>(std::floor(q.y())),
-                                           static_cast<std::int64_t>(std::floor(q.z()))};
-    for (int c = 0; c < 8; ++c) s.cells.push_back({base[0] + (c & 1), base[1] + ((c >> 1) & 1), base[2] + ((c >> 2) & 1)});
-  }
-  std::sort(s.cells.begin(), s.cells.end());
-  s.cells.erase(std::unique(s.cells.begin(), s.cells.end()), s.cells.end());
-  s.snapped.clear();
-  for (const auto& c : s.cells) {
-    const Vec3 q = bstar.lo + Vec3(static_cast<double>(c[0]), static_cast<double>(c[1]), static_cast<double>(c[2])).cwiseProduct(cell);
-    s.snapped.push_back(bstar.axes * q);
-  }
-  convex_hull(s.snapped, s.snap_hull, s.hull_workspace);
-  if (s.snap_hull.dimension < 3) return bstar.axes;
-  s.snap_geometry.reset(s.snap_hull, Vec3::Zero());
-  return exact_box(s.snap_geometry, s.exact, s.snap_bopt).axes;
-}
-
 // pca / pca-vertex: one pass for the moments, one for the extents, relative to the first point
 // (near the set, so far-away sets keep their precision). The finiteness check rides on the
 // extents pass: only when something is not finite is the input scanned for the bad point.
@@ -129,24 +102,14 @@ Obb fit_pca(std::span<const Vec3> points, std::span<const Vec3> triangle_corners
   return box;
 }
 
-Obb fit_checked(std::span<const Vec3> points, std::span<const Vec3> triangle_corners, const FitOptions& options,
-                FitWorkspace& workspace) {
+// Every method but pca and pca-vertex (fit_points and fit_triangles send those to fit_pca), on
+// finite points.
+Obb fit_checked(std::span<const Vec3> points, const FitOptions& options, FitWorkspace& workspace) {
   using namespace fit_detail;
   auto& s = workspace.scratch();
   s.last_hull_vertices = 0;
+  if (options.method == FitMethod::aabb) return to_obb(bounds_of(points));
   const Vec3 origin = local_origin(points);
-  switch (options.method) {
-    case FitMethod::aabb:
-      return to_obb(bounds_of(points));
-    case FitMethod::pca:
-      if (!triangle_corners.empty())
-        return box_with_axes(points, pca_triangle_axes(triangle_corners, origin), origin);
-      [[fallthrough]];
-    case FitMethod::pca_vertex:
-      return box_with_axes(points, pca_vertex_axes(points, origin), origin);
-    default:
-      break;
-  }
   // Hull-based methods.
   if ((options.method == FitMethod::approx || options.method == FitMethod::diameter) &&
       distinct_small(points, options.method == FitMethod::approx ? kSmallSetApprox : kSmallSetDiameter, s.distinct) &&
@@ -170,7 +133,7 @@ Obb fit_checked(std::span<const Vec3> points, std::span<const Vec3> triangle_cor
       break;
     }
     case FitMethod::approx_snap:
-      axes = snap_axes(s, options.epsilon.value_or(kDefaultSnapEpsilon));
+      axes = fit_detail::snap_axes(s, options.epsilon.value_or(kDefaultSnapEpsilon));
       break;
     case FitMethod::exact:
       axes = exact_box(s.geometry, s.exact, s.bopt).axes;
@@ -226,7 +189,7 @@ Obb fit_points(std::span<const Vec3> points, const FitOptions& options, FitWorks
     return fit_pca(points, {});
   }
   check_finite(points);
-  return fit_checked(points, {}, options, workspace);
+  return fit_checked(points, options, workspace);
 }
 
 Obb fit_triangles(std::span<const Vec3> corners, const FitOptions& options) {
@@ -241,7 +204,7 @@ Obb fit_triangles(std::span<const Vec3> corners, const FitOptions& options, FitW
     return fit_pca(corners, options.method == FitMethod::pca ? corners : std::span<const Vec3>{});
   }
   check_finite(corners);
-  return fit_checked(corners, corners, options, workspace);
+  return fit_checked(corners, options, workspace);
 }
 
 }  // namespace tightbvh

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "bopt.hpp"
+#include "tightbvh/fit.hpp"
 
 namespace tightbvh::fit_detail {
 
@@ -73,5 +74,10 @@ struct ExactScratch {
 // one-parameter family (Eberly 2024, Section 3), searched by sampling plus golden-section
 // refinement. Boxes flush with a hull face are solved exactly by Bopt along each face normal.
 [[nodiscard]] AxisBox exact_box(const HullGeometry& g, ExactScratch& scratch, BoptScratch& bopt_scratch);
+
+// approx-snap, ApproxMinVolBbx (Section 6.3, Fig. 6.2; snap.cpp): the axes of the exact box
+// of the hull vertices (s.geometry) snapped to the corners of a grid of cells (eps / 400) B*(S).
+// Uses s's snap_* buffers and exact scratch.
+[[nodiscard]] Mat3 snap_axes(FitWorkspace::Scratch& s, double epsilon);
 
 }  // namespace tightbvh::fit_detail

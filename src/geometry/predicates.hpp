@@ -172,6 +172,14 @@ inline void add_triple_product(Expansion<N>& out, double s, double a, double b, 
   return orient2d_exact(ax, ay, bx, by, cx, cy);
 }
 
+// True iff a, b, c lie on one line (or coincide), exactly: (b - a) x (c - a) = 0, i.e. all three
+// coordinate projections are degenerate (orient2d == 0 in the xy, yz and zx planes).
+[[nodiscard]] inline bool collinear(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return orient2d(a.x(), a.y(), b.x(), b.y(), c.x(), c.y()) == 0 &&
+         orient2d(a.y(), a.z(), b.y(), b.z(), c.y(), c.z()) == 0 &&
+         orient2d(a.z(), a.x(), b.z(), b.x(), c.z(), c.x()) == 0;
+}
+
 // ---------------------------------------------------------------- orient3d
 // Adds det[u, v, w] (columns) to `out` exactly: the six triple products of the Leibniz formula.
 template <int N>

@@ -59,32 +59,34 @@ struct PositionHash {
   }
 };
 
-}  // namespace
-
-Mesh load_mesh(const std::filesystem::path& path) {
-  const std::string name = path.string();
+// Phase 1: the path names a regular file.
+void check_path(const std::filesystem::path& path, const std::string& name) {
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);
   if (!std::filesystem::exists(status)) throw InputError(name + ": no such file");
   if (std::filesystem::is_directory(status)) throw InputError(name + ": is a directory, not a mesh file");
   if (!std::filesystem::is_regular_file(status)) throw InputError(name + ": not a regular file");
+}
 
-  const std::string bytes = read_all(path, name);
-  if (bytes.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(name + ": empty file");
-  const io::Format format = detect_format(path, bytes, name);
-  io::CheckResult checked;
+// Phase 2: our structural checks of the bytes (format_checks.hpp), before assimp sees them.
+io::CheckResult check_format(io::Format format, std::string_view bytes, const std::string& name) {
   switch (format) {
-    case io::Format::obj: checked = io::check_obj(bytes, name); break;
-    case io::Format::off: checked = io::check_off(bytes, name); break;
-    case io::Format::stl: checked = io::check_stl(bytes, name); break;
-    case io::Format::ply: checked = io::check_ply(bytes, name); break;
+    case io::Format::obj: return io::check_obj(bytes, name);
+    case io::Format::off: return io::check_off(bytes, name);
+    case io::Format::stl: return io::check_stl(bytes, name);
+    case io::Format::ply: return io::check_ply(bytes, name);
   }
+  return {};
+}
 
-  // assimp's default logger is the silent NullLogger; we never create the DefaultLogger, so
-  // nothing reaches stdout/stderr. No SortByPType: it rejects valid files that contain an empty
-  // sub-mesh (assimp's own STL/triangle_with_empty_solid.stl); points and lines are skipped below.
-  // No ValidateDataStructure for the same reason: our checks and check_mesh() cover what it would.
-  Assimp::Importer importer;
+// Phase 3: assimp reads the checked file (OFF: our normalized text). The scene belongs to
+// `importer`.
+// assimp's default logger is the silent NullLogger; we never create the DefaultLogger, so
+// nothing reaches stdout/stderr. No SortByPType: it rejects valid files that contain an empty
+// sub-mesh (assimp's own STL/triangle_with_empty_solid.stl); points and lines are skipped below.
+// No ValidateDataStructure for the same reason: our checks and check_mesh() cover what it would.
+const aiScene& read_scene(Assimp::Importer& importer, const std::filesystem::path& path, io::Format format,
+                          const std::string& bytes, const io::CheckResult& checked, const std::string& name) {
   const aiScene* scene = nullptr;
   if (format == io::Format::off) {
     // The checked and normalized text: assimp 5.2 fails on valid COFF files with RGB colours
@@ -100,18 +102,23 @@ Mesh load_mesh(const std::filesystem::path& path) {
   }
   if (scene == nullptr)
     throw InputError(name + ": malformed " + io::format_name(format) + " file: " + importer.GetErrorString());
+  return *scene;
+}
 
+// Phase 4: the triangles of all sub-meshes in one mesh, exactly equal positions welded when
+// `weld` (see PositionKey).
+Mesh collect_triangles(const aiScene& scene, bool weld) {
   Mesh mesh;
   std::unordered_map<PositionKey, std::uint32_t, PositionHash> welded;
   std::vector<std::uint32_t> remap;
-  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-    const aiMesh* sub = scene->mMeshes[m];
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    const aiMesh* sub = scene.mMeshes[m];
     if ((sub->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) == 0) continue;  // points or lines only
     remap.assign(sub->mNumVertices, 0);
     for (unsigned v = 0; v < sub->mNumVertices; ++v) {
       const aiVector3D& p = sub->mVertices[v];
       const Vec3 q(p.x, p.y, p.z);
-      if (checked.weld) {
+      if (weld) {
         // + 0.0 turns -0.0 into +0.0, so both weld together.
         const PositionKey key{{std::bit_cast<std::uint64_t>(q.x() + 0.0), std::bit_cast<std::uint64_t>(q.y() + 0.0),
                                std::bit_cast<std::uint64_t>(q.z() + 0.0)}};
@@ -135,22 +142,40 @@ Mesh load_mesh(const std::filesystem::path& path) {
       mesh.triangles.push_back(t);
     }
   }
-  // OFF: assimp keeps the file's vertex order, so its single-precision coordinates can be swapped
-  // for the double values we parsed, after checking that the two agree vertex by vertex.
-  const auto& precise = checked.precise_vertices;
-  if (!precise.empty() && precise.size() == mesh.vertices.size()) {
-    bool same = true;
-    for (std::size_t i = 0; same && i < precise.size(); ++i)
-      for (int a = 0; a < 3; ++a) {
-        // assimp's fast_atof is not correctly rounded: allow a few float ulps.
-        const double p = precise[i][a];
-        const double q = mesh.vertices[i][a];
-        same = same && (std::isinf(q) ? std::abs(p) >= std::numeric_limits<float>::max()
-                                      : std::abs(p - q) <= 4e-7 * std::max(std::abs(p), 1e-30));
-      }
-    if (same)
-      for (std::size_t i = 0; i < precise.size(); ++i) mesh.vertices[i] = Vec3(precise[i][0], precise[i][1], precise[i][2]);
-  }
+  return mesh;
+}
+
+// Phase 5 (OFF): assimp keeps the file's vertex order, so its single-precision coordinates can
+// be swapped for the double values we parsed, after checking that the two agree vertex by vertex.
+void restore_precision(const std::vector<std::array<double, 3>>& precise, Mesh& mesh) {
+  if (precise.empty() || precise.size() != mesh.vertices.size()) return;
+  bool same = true;
+  for (std::size_t i = 0; same && i < precise.size(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      // assimp's fast_atof is not correctly rounded: allow a few float ulps.
+      const double p = precise[i][a];
+      const double q = mesh.vertices[i][a];
+      same = same && (std::isinf(q) ? std::abs(p) >= std::numeric_limits<float>::max()
+                                    : std::abs(p - q) <= 4e-7 * std::max(std::abs(p), 1e-30));
+    }
+  if (same)
+    for (std::size_t i = 0; i < precise.size(); ++i) mesh.vertices[i] = Vec3(precise[i][0], precise[i][1], precise[i][2]);
+}
+
+}  // namespace
+
+Mesh load_mesh(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  check_path(path, name);
+  const std::string bytes = read_all(path, name);
+  if (bytes.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(name + ": empty file");
+  const io::Format format = detect_format(path, bytes, name);
+  const io::CheckResult checked = check_format(format, bytes, name);
+
+  Assimp::Importer importer;
+  Mesh mesh = collect_triangles(read_scene(importer, path, format, bytes, checked, name), checked.weld);
+  restore_precision(checked.precise_vertices, mesh);
+  // Phase 6: what assimp made of the file against what the checks expect.
   if (checked.expected_triangles != 0 && mesh.triangles.size() != checked.expected_triangles)
     throw InputError(name + ": cannot triangulate: the file's polygons make " +
                      std::to_string(checked.expected_triangles) + " triangles but assimp produced " +

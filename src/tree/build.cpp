@@ -161,25 +161,10 @@ class Builder {
   return static_cast<Index>(std::max<std::size_t>(1024, triangles / 128));
 }
 
-}  // namespace
-
-Tree build(const Mesh& mesh, const BuildOptions& options) {
-  (void)check_mesh(mesh, "mesh");
-  if (mesh.triangles.size() >= std::numeric_limits<Index>::max())
-    throw InputError("build: more than 2^32 - 2 triangles");
-  if (options.leaf_size == 0) throw InputError("build: leaf_size must be at least 1");
-  const auto n = static_cast<Index>(mesh.triangles.size());
-
-  Tree tree;
-  tree.triangle_order.resize(n);
-  for (Index i = 0; i < n; ++i) tree.triangle_order[i] = i;
-  Builder builder(mesh, options, tree.triangle_order);
-  const unsigned threads =
-      options.threads != 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
-  detail::WorkerPool<Scratch> pool(threads);
-
-  // Top levels, breadth first: the nodes of one level are independent, so their fits run in
-  // parallel; child slots are then allocated in level order, which fixes the numbering.
+// Phase 1, the top levels, breadth first: the nodes of one level are independent, so their fits
+// run in parallel; child slots are then allocated in level order, which fixes the numbering.
+// Fills tree.nodes with those levels; returns the ranges below the grain, one task each.
+std::vector<Pending> build_top_levels(Builder& builder, Index n, detail::WorkerPool<Scratch>& pool, Tree& tree) {
   const Index grain = task_grain(n);
   tree.nodes.emplace_back();
   std::vector<Pending> level{{0, 0, n}};
@@ -204,15 +189,28 @@ Tree build(const Mesh& mesh, const BuildOptions& options) {
       tree.nodes.emplace_back();
     }
   }
+  return tasks;
+}
 
-  // Subtrees below the grain: one task each, largest first for load balance. A subtree of m
-  // triangles has at most 2m - 1 nodes (exactly that for leaf_size 1): each task writes its
-  // nodes directly into its own slice of the final array, at an offset fixed by the task order.
-  std::vector<std::size_t> offset(tasks.size() + 1, tree.nodes.size());
+// Where phase 2 put each task's subtree: nodes [offset[i], offset[i] + used[i]).
+struct TaskSlices {
+  std::vector<std::size_t> offset;  // tasks.size() + 1 entries
+  std::vector<std::size_t> used;
+};
+
+// Phase 2, the subtrees below the grain: one task each, largest first for load balance. A
+// subtree of m triangles has at most 2m - 1 nodes (exactly that for leaf_size 1): each task
+// writes its nodes directly into its own slice of the final array, at an offset fixed by the
+// task order.
+TaskSlices build_subtrees(Builder& builder, const std::vector<Pending>& tasks, detail::WorkerPool<Scratch>& pool,
+                          Tree& tree) {
+  TaskSlices slices;
+  std::vector<std::size_t>& offset = slices.offset;
+  offset.assign(tasks.size() + 1, tree.nodes.size());
   for (std::size_t i = 0; i < tasks.size(); ++i)
     offset[i + 1] = offset[i] + 2 * std::size_t{tasks[i].end - tasks[i].begin} - 2;
   tree.nodes.resize(offset.back());
-  std::vector<std::size_t> used(tasks.size());
+  slices.used.resize(tasks.size());
   std::vector<std::size_t> by_size(tasks.size());
   for (std::size_t i = 0; i < by_size.size(); ++i) by_size[i] = i;
   std::stable_sort(by_size.begin(), by_size.end(), [&](std::size_t a, std::size_t b) {
@@ -221,25 +219,51 @@ Tree build(const Mesh& mesh, const BuildOptions& options) {
   pool.run(tasks.size(), [&](std::size_t k, Scratch& scratch) {
     const std::size_t i = by_size[k];
     const Pending& p = tasks[i];
-    used[i] = builder.build_subtree(p.node, p.begin, p.end, tree.nodes, offset[i], scratch) - offset[i];
+    slices.used[i] = builder.build_subtree(p.node, p.begin, p.end, tree.nodes, offset[i], scratch) - offset[i];
   });
-  // With leaf_size > 1 the slices have unused tails: close the gaps, in task order.
-  std::size_t write = offset[0];
+  return slices;
+}
+
+// Phase 3: with leaf_size > 1 the slices have unused tails: close the gaps, in task order.
+void compact(const std::vector<Pending>& tasks, const TaskSlices& slices, Tree& tree) {
+  std::size_t write = slices.offset[0];
   for (std::size_t i = 0; i < tasks.size(); ++i) {
-    const std::size_t shift = offset[i] - write;
+    const std::size_t shift = slices.offset[i] - write;
     if (shift != 0) {
       Node& root = tree.nodes[tasks[i].node];
       if (!root.is_leaf()) root.first -= static_cast<Index>(shift);
-      for (std::size_t k = offset[i]; k < offset[i] + used[i]; ++k) {
+      for (std::size_t k = slices.offset[i]; k < slices.offset[i] + slices.used[i]; ++k) {
         Node node = tree.nodes[k];
         if (!node.is_leaf()) node.first -= static_cast<Index>(shift);
         tree.nodes[k - shift] = node;
       }
     }
-    write += used[i];
+    write += slices.used[i];
   }
   tree.nodes.resize(write);
   if (tree.nodes.capacity() > write + write / 4) tree.nodes.shrink_to_fit();
+}
+
+}  // namespace
+
+Tree build(const Mesh& mesh, const BuildOptions& options) {
+  (void)check_mesh(mesh, "mesh");
+  if (mesh.triangles.size() >= std::numeric_limits<Index>::max())
+    throw InputError("build: more than 2^32 - 2 triangles");
+  if (options.leaf_size == 0) throw InputError("build: leaf_size must be at least 1");
+  const auto n = static_cast<Index>(mesh.triangles.size());
+
+  Tree tree;
+  tree.triangle_order.resize(n);
+  for (Index i = 0; i < n; ++i) tree.triangle_order[i] = i;
+  Builder builder(mesh, options, tree.triangle_order);
+  const unsigned threads =
+      options.threads != 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  detail::WorkerPool<Scratch> pool(threads);
+
+  const std::vector<Pending> tasks = build_top_levels(builder, n, pool, tree);
+  const TaskSlices slices = build_subtrees(builder, tasks, pool, tree);
+  compact(tasks, slices, tree);
   return tree;
 }
 

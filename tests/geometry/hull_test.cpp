@@ -59,11 +59,7 @@ namespace {
 using Key = std::array<double, 3>;
 Key key(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
 
-bool collinear(const Vec3& a, const Vec3& b, const Vec3& c) {
-  return detail::orient2d(a.x(), a.y(), b.x(), b.y(), c.x(), c.y()) == 0 &&
-         detail::orient2d(a.y(), a.z(), b.y(), b.z(), c.y(), c.z()) == 0 &&
-         detail::orient2d(a.z(), a.x(), b.z(), b.x(), c.z(), c.x()) == 0;
-}
+using detail::collinear;
 
 // Exact checks of a solid hull of `points`: vertices are input points at distinct positions;
 // faces are non-degenerate and counter-clockwise seen from outside, every input point is on

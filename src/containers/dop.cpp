@@ -2,6 +2,7 @@
 // diamond and their combination, the cuboctahedron; 18- and 26-DOPs add the edge directions).
 #include "tightbvh/dop.hpp"
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>

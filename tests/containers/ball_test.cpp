@@ -153,6 +153,20 @@ TEST(Ball, MatchesBruteForceOnSmallRandomSets) {
   }
 }
 
+// Nearly cospherical sets (many candidate supports of almost equal radius) at several scales.
+TEST(Ball, NearlyCosphericalAndScaled) {
+  std::mt19937_64 rng(17);
+  std::normal_distribution<double> normal;
+  for (double scale : {1e-8, 1.0, 1e8})
+    for (int trial = 0; trial < 10; ++trial) {
+      std::vector<Vec3> p;
+      for (int i = 0; i < 30; ++i)
+        p.push_back(scale * (Vec3(normal(rng), normal(rng), normal(rng)).normalized() * (1 + 1e-9 * normal(rng))));
+      SCOPED_TRACE(scale);
+      expect_exact(p);
+    }
+}
+
 TEST(Ball, ContainsEveryMeshVertex) {
   std::mt19937_64 rng(3);
   int meshes = 0;

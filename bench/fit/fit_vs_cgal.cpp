@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "../thread_clock.hpp"
+#include "ball_vs_cgal.hpp"
 #include "tightbvh/fit.hpp"
 #include "tightbvh/hull.hpp"
 #include "tightbvh/mesh.hpp"
@@ -122,6 +123,8 @@ int main(int argc, char** argv) {
   app.add_option("--json", json_path, "also write the per-mesh results to this JSON file");
   std::string hulls_mesh;
   app.add_option("--hulls", hulls_mesh, "only time our convex_hull vs CGAL::convex_hull_3 on nodes of this mesh");
+  bool balls = false;
+  app.add_flag("--balls", balls, "only compare bounding_ball with CGAL::Min_sphere_of_spheres_d (and fast_ball)");
   CLI11_PARSE(app, argc, argv);
   if (!hulls_mesh.empty()) {
     compare_hulls(hulls_mesh);
@@ -138,6 +141,7 @@ int main(int argc, char** argv) {
     }
   }
   std::sort(files.begin(), files.end());
+  if (balls) return tightbvh::ball_bench::compare_balls(files);
 
   nlohmann::json out = nlohmann::json::array();
   std::printf("%-34s %8s %6s %12s %9s | %9s %9s %8s | %9s %9s\n", "mesh", "vertices", "hull", "cgal volume", "cgal s",

@@ -11,12 +11,13 @@
 #include "tightbvh/hull.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/min_rect.hpp"
+#include "../name_table.hpp"
 #include "workspace.hpp"
 
 namespace tightbvh {
 namespace {
 
-constexpr std::array<std::pair<FitMethod, std::string_view>, 7> kNames{{
+constexpr detail::NameTable<FitMethod, 7> kNames({{
     {FitMethod::aabb, "aabb"},
     {FitMethod::pca, "pca"},
     {FitMethod::pca_vertex, "pca-vertex"},
@@ -24,19 +25,7 @@ constexpr std::array<std::pair<FitMethod, std::string_view>, 7> kNames{{
     {FitMethod::approx, "approx"},
     {FitMethod::approx_snap, "approx-snap"},
     {FitMethod::exact, "exact"},
-}};
-
-// The table's two columns, for all_fit_methods() and fit_method_names().
-constexpr auto kMethods = [] {
-  std::array<FitMethod, kNames.size()> out{};
-  for (std::size_t i = 0; i < kNames.size(); ++i) out[i] = kNames[i].first;
-  return out;
-}();
-constexpr auto kMethodNames = [] {
-  std::array<std::string_view, kNames.size()> out{};
-  for (std::size_t i = 0; i < kNames.size(); ++i) out[i] = kNames[i].second;
-  return out;
-}();
+}});
 
 // approx-snap's default epsilon when none is given.
 constexpr double kDefaultSnapEpsilon = 0.1;
@@ -153,19 +142,15 @@ FitWorkspace& FitWorkspace::operator=(FitWorkspace&&) noexcept = default;
 std::size_t FitWorkspace::last_hull_vertices() const { return scratch_->last_hull_vertices; }
 
 std::optional<FitMethod> parse_fit_method(std::string_view name) {
-  for (const auto& [method, text] : kNames)
-    if (text == name) return method;
-  return std::nullopt;
+  return kNames.parse(name);
 }
 
 std::string_view to_string(FitMethod method) {
-  for (const auto& [m, text] : kNames)
-    if (m == method) return text;
-  return "unknown";
+  return kNames.name(method);
 }
 
-std::span<const FitMethod> all_fit_methods() { return kMethods; }
-std::span<const std::string_view> fit_method_names() { return kMethodNames; }
+std::span<const FitMethod> all_fit_methods() { return kNames.values(); }
+std::span<const std::string_view> fit_method_names() { return kNames.names(); }
 
 // e -> k. The proof of Theorem 6.4.3 needs k = c/e with a constant c that is far too
 // pessimistic in practice (m = max(4/e, 6) and grid cells of 1/(10m + 20) of the optimum).

@@ -13,7 +13,7 @@ namespace tightbvh::fit_detail {
 // ApproxMinVolBbx (Section 6.3, Fig. 6.2): snap the hull vertices to the 8 corners of their
 // cell of G = Grid(B_eps / 2), B_eps = (eps / 200) B*(S), then the exact box of the snapped hull.
 Mat3 snap_axes(FitWorkspace::Scratch& s, double epsilon) {
-  const AxisBox bstar = lemma_box(s.geometry);
+  const AxisBox bstar = lemma_box(s.geometry, s.bopt);
   const Vec3 cell = (bstar.hi - bstar.lo) * (epsilon / 400.0);
   s.cells.clear();
   for (const Vec3& p : s.geometry.local) {

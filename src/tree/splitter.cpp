@@ -1,5 +1,7 @@
 #include "splitter.hpp"
 
+#include "../name_table.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -8,39 +10,25 @@
 namespace tightbvh {
 
 namespace {
-constexpr std::array<std::pair<SplitMethod, std::string_view>, 3> kNames{{
+constexpr detail::NameTable<SplitMethod, 3> kNames({{
     {SplitMethod::rapid, "rapid"},
     {SplitMethod::median, "median"},
     {SplitMethod::binned, "binned"},
-}};
-// The table's two columns, for all_split_methods() and split_method_names().
-constexpr auto kMethods = [] {
-  std::array<SplitMethod, kNames.size()> out{};
-  for (std::size_t i = 0; i < kNames.size(); ++i) out[i] = kNames[i].first;
-  return out;
-}();
-constexpr auto kMethodNames = [] {
-  std::array<std::string_view, kNames.size()> out{};
-  for (std::size_t i = 0; i < kNames.size(); ++i) out[i] = kNames[i].second;
-  return out;
-}();
+}});
 }  // namespace
 
 std::optional<SplitMethod> parse_split_method(std::string_view name) {
-  for (const auto& [method, text] : kNames)
-    if (text == name) return method;
+  if (const auto method = kNames.parse(name)) return method;
   if (name == "sah") return SplitMethod::binned;
   return std::nullopt;
 }
 
 std::string_view to_string(SplitMethod method) {
-  for (const auto& [m, text] : kNames)
-    if (m == method) return text;
-  return "unknown";
+  return kNames.name(method);
 }
 
-std::span<const SplitMethod> all_split_methods() { return kMethods; }
-std::span<const std::string_view> split_method_names() { return kMethodNames; }
+std::span<const SplitMethod> all_split_methods() { return kNames.values(); }
+std::span<const std::string_view> split_method_names() { return kNames.names(); }
 
 namespace detail {
 namespace {

@@ -18,6 +18,7 @@ enum class FitMethod {
   approx,       // GridSearchMinVolBbx (Section 6.4) + local improvement
   approx_snap,  // ApproxMinVolBbx (Section 6.3)
   exact,        // minimum-volume box (O'Rourke's theorem)
+  eberly2015,   // Eberly 2015: face-flush and orthogonal-edge-triple boxes (misses some minima)
 };
 
 struct FitOptions {
@@ -30,7 +31,7 @@ struct FitOptions {
 // The one table of method names (fit.cpp): parsing, printing, listing and help texts use it.
 [[nodiscard]] std::optional<FitMethod> parse_fit_method(std::string_view name);
 [[nodiscard]] std::string_view to_string(FitMethod method);
-// Every method, in declaration order ("aabb", "pca", "pca-vertex", ..., "exact").
+// Every method, in declaration order ("aabb", "pca", "pca-vertex", ..., "exact", "eberly2015").
 [[nodiscard]] std::span<const FitMethod> all_fit_methods();
 [[nodiscard]] std::span<const std::string_view> fit_method_names();  // same order
 

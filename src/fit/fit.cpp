@@ -17,7 +17,7 @@
 namespace tightbvh {
 namespace {
 
-constexpr detail::NameTable<FitMethod, 7> kNames({{
+constexpr detail::NameTable<FitMethod, 8> kNames({{
     {FitMethod::aabb, "aabb"},
     {FitMethod::pca, "pca"},
     {FitMethod::pca_vertex, "pca-vertex"},
@@ -25,6 +25,7 @@ constexpr detail::NameTable<FitMethod, 7> kNames({{
     {FitMethod::approx, "approx"},
     {FitMethod::approx_snap, "approx-snap"},
     {FitMethod::exact, "exact"},
+    {FitMethod::eberly2015, "eberly2015"},
 }});
 
 // approx-snap's default epsilon when none is given.
@@ -126,6 +127,9 @@ Obb fit_checked(std::span<const Vec3> points, const FitOptions& options, FitWork
       break;
     case FitMethod::exact:
       axes = exact_box(s.geometry, s.exact, s.bopt).axes;
+      break;
+    case FitMethod::eberly2015:
+      axes = eberly2015_box(s.geometry, s.eberly2015, s.bopt).axes;
       break;
     default:
       throw std::logic_error("fit: unknown method");

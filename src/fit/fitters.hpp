@@ -75,6 +75,19 @@ struct ExactScratch {
 // refinement. Boxes flush with a hull face are solved exactly by Bopt along each face normal.
 [[nodiscard]] AxisBox exact_box(const HullGeometry& g, ExactScratch& scratch, BoptScratch& bopt_scratch);
 
+struct Eberly2015Scratch {
+  std::vector<Vec3> directions;           // distinct face normals, then edge directions
+  std::vector<std::uint32_t> partners;    // the edge directions orthogonal to one of them
+  std::size_t face_directions = 0;        // Bopt calls of the last fit
+  std::size_t edge_triples = 0;           // mutually orthogonal edge triples of the last fit
+};
+
+// Eberly 2015 (eberly2015.cpp): the smallest of the boxes flush with a hull face (Section 2:
+// Bopt along each distinct face normal) and of the boxes spanned by three mutually orthogonal
+// hull edges (Section 3). Not always the minimum: it misses boxes flush with edges only (the
+// regular tetrahedron's cube), which exact_box covers.
+[[nodiscard]] AxisBox eberly2015_box(const HullGeometry& g, Eberly2015Scratch& scratch, BoptScratch& bopt_scratch);
+
 // approx-snap, ApproxMinVolBbx (Section 6.3, Fig. 6.2; snap.cpp): the axes of the exact box
 // of the hull vertices (s.geometry) snapped to the corners of a grid of cells (eps / 400) B*(S).
 // Uses s's snap_* buffers and exact scratch.

@@ -16,6 +16,7 @@ struct FitWorkspace::Scratch {
   fit_detail::HullGeometry geometry;
   fit_detail::BoptScratch bopt;
   fit_detail::ExactScratch exact;
+  fit_detail::Eberly2015Scratch eberly2015;
   std::vector<Vec2> polygon;
   std::vector<Vec3> distinct;  // small sets: the distinct input points (no hull computed)
   // approx-snap: the hull of the snapped points

@@ -22,7 +22,8 @@ namespace tightbvh {
 namespace {
 
 constexpr FitMethod kAllFitters[] = {FitMethod::aabb,     FitMethod::pca,    FitMethod::pca_vertex, FitMethod::diameter,
-                                     FitMethod::approx,   FitMethod::approx_snap, FitMethod::exact};
+                                     FitMethod::approx,   FitMethod::approx_snap, FitMethod::exact,
+                                     FitMethod::eberly2015};
 
 // The tree for `fitter`, or nothing if that fitter is not implemented yet (std::logic_error) or
 // too slow for a unit test on this mesh size (approx-snap builds a 1000-triangle tree in ~45 s,
@@ -30,7 +31,7 @@ constexpr FitMethod kAllFitters[] = {FitMethod::aabb,     FitMethod::pca,    Fit
 // <= 64. Trees are memoized by mesh content (the edge-case tests query the same meshes often).
 std::optional<Tree> try_build(const Mesh& mesh, FitMethod fitter, std::uint32_t leaf_size = 1) {
   if (fitter == FitMethod::approx_snap && mesh.triangles.size() > 16) return std::nullopt;
-  if (fitter == FitMethod::exact && mesh.triangles.size() > 64) return std::nullopt;
+  if ((fitter == FitMethod::exact || fitter == FitMethod::eberly2015) && mesh.triangles.size() > 64) return std::nullopt;
   static std::map<std::string, std::optional<Tree>> memo;
   std::string key(reinterpret_cast<const char*>(mesh.vertices.data()), mesh.vertices.size() * sizeof(Vec3));
   key.append(reinterpret_cast<const char*>(mesh.triangles.data()), mesh.triangles.size() * sizeof(Triangle));

@@ -48,11 +48,11 @@ const Mesh& patch(const std::string& name, std::size_t count = 600) {
 // larger (seconds for a 20-triangle patch); its containment is tested in tests/fit and tests/tree.
 std::vector<FitMethod> available_fitters() {
   return {FitMethod::aabb, FitMethod::pca,  FitMethod::pca_vertex, FitMethod::diameter,
-          FitMethod::approx, FitMethod::exact};
+          FitMethod::approx, FitMethod::exact, FitMethod::eberly2015};
 }
 
 // exact costs milliseconds per node: it gets smaller patches.
-bool slow(FitMethod m) { return m == FitMethod::exact; }
+bool slow(FitMethod m) { return m == FitMethod::exact || m == FitMethod::eberly2015; }
 
 Tree build_tree(const Mesh& mesh, FitMethod method, std::uint32_t leaf_size) {
   BuildOptions o;

@@ -55,7 +55,7 @@ TEST(CliFit, JsonBoxesContainTheMeshAndAreOrderedByTightness) {
 TEST(CliFit, AllPrintsEveryMethodAsText) {
   const auto r = test::run_cli("fit " + test::shell_quote(kElephant) + " --method all");
   ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* m : {"aabb", "pca", "pca-vertex", "diameter", "approx", "approx-snap", "exact"})
+  for (const char* m : {"aabb", "pca", "pca-vertex", "diameter", "approx", "approx-snap", "exact", "eberly2015"})
     EXPECT_NE(r.out.find(std::string("\n") + m + " "), std::string::npos) << m << " missing in\n" << r.out;
 }
 

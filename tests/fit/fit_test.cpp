@@ -16,7 +16,8 @@ namespace {
 using test::valid_box_containing;
 
 const FitMethod kAll[] = {FitMethod::aabb,   FitMethod::pca,         FitMethod::pca_vertex, FitMethod::diameter,
-                          FitMethod::approx, FitMethod::approx_snap, FitMethod::exact};
+                          FitMethod::approx, FitMethod::approx_snap, FitMethod::exact,
+                          FitMethod::eberly2015};
 
 double volume_of(std::span<const Vec3> points, FitMethod m, const FitOptions& base = {}) {
   FitOptions o = base;

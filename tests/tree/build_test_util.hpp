@@ -15,7 +15,7 @@ namespace tightbvh::test {
 
 inline constexpr FitMethod kAllMethods[] = {FitMethod::aabb,   FitMethod::pca,         FitMethod::pca_vertex,
                                             FitMethod::diameter, FitMethod::approx, FitMethod::approx_snap,
-                                            FitMethod::exact};
+                                            FitMethod::exact,  FitMethod::eberly2015};
 
 // The fitters land one by one (fit branch): a method is available when it fits a tetrahedron.
 inline bool available(FitMethod method) {
@@ -59,6 +59,7 @@ inline std::size_t triangle_budget(const Fitter& fitter) {
       case FitMethod::pca_vertex:
         return 1u << 30;
       case FitMethod::exact:
+      case FitMethod::eberly2015:
       case FitMethod::approx_snap:  // ~20 s for 318 triangles (dragknob), hence tiny subsets
         return 24;
       default:

@@ -33,7 +33,8 @@ bool full_sweep() {
 }
 
 constexpr FitMethod kMethods[] = {FitMethod::aabb,   FitMethod::pca,         FitMethod::pca_vertex, FitMethod::diameter,
-                                  FitMethod::approx, FitMethod::approx_snap, FitMethod::exact};
+                                  FitMethod::approx, FitMethod::approx_snap, FitMethod::exact,
+                                  FitMethod::eberly2015};
 
 // The triangle corners below each node.
 std::vector<std::vector<Vec3>> node_corners(const Tree& tree, const Mesh& mesh) {
@@ -64,6 +65,7 @@ void expect_valid_tree(const Mesh& mesh, const Fitter& fitter, const std::string
 std::size_t max_sampled_corners(FitMethod method) {
   switch (method) {
     case FitMethod::exact:
+    case FitMethod::eberly2015:
       return 3 * 256;
     case FitMethod::approx_snap:
       return 3 * 16;
@@ -77,6 +79,7 @@ std::size_t max_sampled_corners(FitMethod method) {
 std::size_t max_tree_triangles(FitMethod method) {
   switch (method) {
     case FitMethod::exact:
+    case FitMethod::eberly2015:
       return 30'000;
     case FitMethod::approx_snap:
       return 64;

@@ -61,8 +61,9 @@ void register_all() {
       const auto points = std::make_shared<std::vector<Vec3>>(from_mesh ? mesh_node(n) : gaussian(n));
       const std::string suffix = "/" + src + "/" + std::to_string(n);
       for (FitMethod m : kMethods) {
-        // exact and approx-snap on 10,000 points take seconds per call: left out here.
-        if ((m == FitMethod::exact || m == FitMethod::approx_snap) && n > 1000) continue;
+        // exact, eberly2015 (quadratic in the hull's edges) and approx-snap on 10,000 points take
+        // up to seconds per call: left out here.
+        if ((m == FitMethod::exact || m == FitMethod::eberly2015 || m == FitMethod::approx_snap) && n > 1000) continue;
         benchmark::RegisterBenchmark(("BM_Fit/" + std::string(tightbvh::to_string(m)) + suffix).c_str(),
                                      [points, m](benchmark::State& state) {
                                        tightbvh::FitWorkspace ws;

@@ -43,42 +43,49 @@ struct Shape {
   double scale2 = 0.0;                  // max_i (x_i - c)^T S^-1 (x_i - c)
 };
 
-// WA-TY on full-dimensional points x (already local and normalised to size ~1).
 template <int D>
-Shape<D> mvee(const std::vector<Eigen::Matrix<double, D, 1>>& x, double epsilon) {
+using Points = std::vector<Eigen::Matrix<double, D, 1>>;
+
+// Kumar-Yildirim initialisation (2005): for d directions, each a coordinate axis with the spans
+// of the earlier extreme differences projected out, the two extreme points; uniform weights.
+template <int D>
+std::vector<double> kumar_yildirim_weights(const Points<D>& x) {
   using VecD = Eigen::Matrix<double, D, 1>;
+  const std::size_t n = x.size();
+  std::vector<double> u(n, 0.0);
+  std::vector<VecD> basis;
+  for (int it = 0; it < D; ++it) {
+    VecD best = VecD::Zero();
+    for (int k = 0; k < D; ++k) {
+      VecD b = VecD::Unit(k);
+      for (const VecD& e : basis) b -= b.dot(e) * e;
+      if (b.squaredNorm() > best.squaredNorm()) best = b;
+    }
+    best.normalize();
+    std::size_t lo = 0, hi = 0;
+    for (std::size_t i = 1; i < n; ++i) {
+      const double t = best.dot(x[i]);
+      if (t < best.dot(x[lo])) lo = i;
+      if (t > best.dot(x[hi])) hi = i;
+    }
+    u[lo] += 0.5 / D;
+    u[hi] += 0.5 / D;
+    VecD diff = x[hi] - x[lo];
+    for (const VecD& e : basis) diff -= diff.dot(e) * e;
+    if (diff.norm() > 0.0) basis.push_back(diff.normalized());
+  }
+  return u;
+}
+
+// WA-TY (Todd & Yildirim 2007) from the weights u: Khachiyan's step toward the point of largest
+// kappa, or an away step from the weighted point of smallest kappa (dropping it at the cap),
+// until max kappa <= kappa_stop (see the header comment for the (1 + epsilon) volume bound).
+template <int D>
+void wa_ty(const Points<D>& x, std::vector<double>& u, double epsilon) {
   using VecL = Eigen::Matrix<double, D + 1, 1>;
   using MatL = Eigen::Matrix<double, D + 1, D + 1>;
   const std::size_t n = x.size();
   const auto lift = [&](std::size_t i) { return (VecL() << x[i], 1.0).finished(); };
-  std::vector<double> u(n, 0.0);
-
-  // Kumar-Yildirim initialisation: for d directions, each a coordinate axis with the spans of
-  // the earlier extreme differences projected out, the two extreme points; uniform weights.
-  {
-    std::vector<VecD> basis;
-    for (int it = 0; it < D; ++it) {
-      VecD best = VecD::Zero();
-      for (int k = 0; k < D; ++k) {
-        VecD b = VecD::Unit(k);
-        for (const VecD& e : basis) b -= b.dot(e) * e;
-        if (b.squaredNorm() > best.squaredNorm()) best = b;
-      }
-      best.normalize();
-      std::size_t lo = 0, hi = 0;
-      for (std::size_t i = 1; i < n; ++i) {
-        const double t = best.dot(x[i]);
-        if (t < best.dot(x[lo])) lo = i;
-        if (t > best.dot(x[hi])) hi = i;
-      }
-      u[lo] += 0.5 / D;
-      u[hi] += 0.5 / D;
-      VecD diff = x[hi] - x[lo];
-      for (const VecD& e : basis) diff -= diff.dot(e) * e;
-      if (diff.norm() > 0.0) basis.push_back(diff.normalized());
-    }
-  }
-
   const auto moment = [&] {
     MatL m = MatL::Zero();
     for (std::size_t i = 0; i < n; ++i)
@@ -102,7 +109,7 @@ Shape<D> mvee(const std::vector<Eigen::Matrix<double, D, 1>>& x, double epsilon)
       if (kappa > kj) kj = kappa, j = i;
       if (u[i] > 0.0 && kappa < kk) kk = kappa, k = i;
     }
-    if (kj <= kappa_stop) break;
+    if (kj <= kappa_stop) return;
     const double eps_plus = kj / dp1 - 1.0, eps_minus = k < n ? 1.0 - kk / dp1 : 0.0;
     if (eps_plus >= eps_minus) {
       // Khachiyan's (Frank-Wolfe) step toward x_j: the exact line search of Todd-Yildirim (2.7).
@@ -124,7 +131,16 @@ Shape<D> mvee(const std::vector<Eigen::Matrix<double, D, 1>>& x, double epsilon)
       m = (1.0 + beta) * m - beta * q * q.transpose();
     }
   }
+}
 
+// WA-TY on full-dimensional points x (already local and normalised to size ~1): the weighted
+// center and scatter, and the largest scaled distance of a point (for the final scaling).
+template <int D>
+Shape<D> mvee(const Points<D>& x, double epsilon) {
+  using VecD = Eigen::Matrix<double, D, 1>;
+  const std::size_t n = x.size();
+  std::vector<double> u = kumar_yildirim_weights(x);
+  wa_ty(x, u, epsilon);
   Shape<D> s;
   s.center = VecD::Zero();
   double total = 0.0;

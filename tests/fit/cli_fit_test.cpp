@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <cmath>
+#include <set>
 #include <string>
 
 #include "../cli_runner.hpp"
@@ -57,6 +59,59 @@ TEST(CliFit, AllPrintsEveryMethodAsText) {
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* m : {"aabb", "pca", "pca-vertex", "diameter", "approx", "approx-snap", "exact", "eberly2015"})
     EXPECT_NE(r.out.find(std::string("\n") + m + " "), std::string::npos) << m << " missing in\n" << r.out;
+}
+
+// Sunday's containers from the CLI: the printed parameters contain every vertex; "all" adds
+// each volume relative to the exact box (1 for exact itself, >= 1 for every other box).
+TEST(CliFit, ContainersContainTheMeshAndAllComparesWithTheExactBox) {
+  const Mesh mesh = load_mesh(kElephant);
+  const auto fit_json = [](const std::string& method) {
+    const auto run = test::run_cli("fit " + test::shell_quote(kElephant) + " --method " + method + " --json");
+    EXPECT_EQ(run.status, 0) << run.err;
+    const auto json = nlohmann::json::parse(run.out);
+    EXPECT_EQ(json.size(), 1u);
+    EXPECT_EQ(json[0].at("method"), method);
+    return json[0];
+  };
+  for (const char* name : {"ball", "fast-ball"}) {
+    const auto j = fit_json(name);
+    const Vec3 center = vec(j.at("center"));
+    const double radius = j.at("radius").get<double>();
+    EXPECT_NEAR(j.at("volume").get<double>(), 4.0 / 3.0 * M_PI * radius * radius * radius, 1e-12);
+    for (const Vec3& v : mesh.vertices) ASSERT_LE((v - center).norm(), radius * (1 + 1e-12)) << name;
+  }
+  {
+    const auto j = fit_json("ellipsoid");
+    const Vec3 center = vec(j.at("center")), radii = vec(j.at("radii"));
+    Mat3 axes;
+    for (int a = 0; a < 3; ++a) axes.col(a) = vec(j.at("axes").at(a));
+    for (const Vec3& v : mesh.vertices)
+      ASSERT_LE((axes.transpose() * (v - center)).cwiseQuotient(radii).squaredNorm(), 1 + 1e-9);
+  }
+  for (const char* name : {"diamond", "dop14", "dop18", "dop26"}) {
+    const auto j = fit_json(name);
+    for (const auto& slab : j.at("slabs")) {
+      const Vec3 d = vec(slab.at("direction"));
+      const double lo = slab.at("min").get<double>(), hi = slab.at("max").get<double>();
+      for (const Vec3& v : mesh.vertices) {
+        ASSERT_GE(d.dot(v), lo - 1e-12) << name;
+        ASSERT_LE(d.dot(v), hi + 1e-12) << name;
+      }
+    }
+  }
+  const auto run = test::run_cli("fit " + test::shell_quote(kElephant) + " --method all --json");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto all = nlohmann::json::parse(run.out);
+  std::set<std::string> methods;
+  for (const auto& j : all) {
+    const std::string method = j.at("method");
+    methods.insert(method);
+    const double relative = j.at("volume_vs_exact").get<double>();
+    if (method == "exact") EXPECT_DOUBLE_EQ(relative, 1.0);
+    if (j.contains("half_extents")) EXPECT_GE(relative, 1.0 - 1e-9) << method;  // exact is the smallest box
+  }
+  for (const char* m : {"exact", "approx", "ball", "fast-ball", "ellipsoid", "diamond", "dop14", "dop26"})
+    EXPECT_TRUE(methods.count(m)) << m;
 }
 
 TEST(CliFit, BadInputIsAOneLineError) {

@@ -75,12 +75,16 @@ struct Scratch {
   std::vector<Pending> stack;
   FitWorkspace fit;  // hulls, projections, ... of the fitters
   detail::SplitScratch split;
+  // The node's distinct vertices, found with a stamp per mesh vertex (no sorting, no hashing).
+  std::vector<std::uint32_t> vertex_stamp;
+  std::uint32_t stamp_epoch = 0;
+  std::vector<Vec3> vertices;
 };
 
 class Builder {
  public:
   Builder(const Mesh& mesh, const BuildOptions& options, std::vector<Index>& order)
-      : options_(options), order_(order), corners_(triangle_corners(mesh)) {}
+      : mesh_(mesh), options_(options), order_(order), corners_(triangle_corners(mesh)) {}
 
   // Fits the node's box; returns the split point (begin < mid < end), or `end` for a leaf.
   Index process(Node& node, Index begin, Index end, Scratch& scratch) {
@@ -126,6 +130,23 @@ class Builder {
     return count >= a.tight_min_triangles ? a.tight : a.cheap;
   }
 
+  // The distinct mesh vertices of the node's triangles (positions [begin, end) of order_).
+  std::span<const Vec3> node_vertices(Index begin, Index end, Scratch& scratch) const {
+    auto& stamp = scratch.vertex_stamp;
+    if (stamp.size() != mesh_.vertices.size() || ++scratch.stamp_epoch == 0) {
+      stamp.assign(mesh_.vertices.size(), 0);
+      scratch.stamp_epoch = 1;
+    }
+    scratch.vertices.clear();
+    for (Index p = begin; p < end; ++p)
+      for (const std::uint32_t v : mesh_.triangles[order_[p]])
+        if (stamp[v] != scratch.stamp_epoch) {
+          stamp[v] = scratch.stamp_epoch;
+          scratch.vertices.push_back(mesh_.vertices[v]);
+        }
+    return scratch.vertices;
+  }
+
   [[nodiscard]] Obb fit(Index begin, Index end, Scratch& scratch) const {
     const FitMethod method = method_for(end - begin);
     const auto corners = std::span<const Vec3>(corners_).subspan(3 * std::size_t{begin}, 3 * std::size_t{end - begin});
@@ -137,7 +158,10 @@ class Builder {
     }
     FitOptions fit = options_.fit;
     fit.method = method;
-    Obb box = fit_triangles(corners, fit, scratch.fit);
+    // pca needs only the corners; the hull-based fitters work on the distinct vertices.
+    Obb box = method == FitMethod::pca || method == FitMethod::pca_vertex
+                  ? fit_triangles(corners, fit, scratch.fit)
+                  : fit_triangles(corners, node_vertices(begin, end, scratch), fit, scratch.fit);
     if (const auto* a = std::get_if<AutoFit>(&options_.fitter); a && a->or_aabb && method != FitMethod::aabb) {
       // The axis-aligned box costs one pass and is often the smaller one (axis-aligned CAD
       // parts, nodes with a near-isotropic covariance where the PCA axes are arbitrary).
@@ -147,6 +171,7 @@ class Builder {
     return box;
   }
 
+  const Mesh& mesh_;
   const BuildOptions& options_;
   // Position-indexed, permuted in lockstep by the splits: position p holds triangle order_[p]
   // with corners corners_[3p..3p+3). Each node (and each task) touches only its own range.

@@ -164,3 +164,16 @@ def test_a_tree_loaded_without_its_mesh_needs_one_for_queries(tmp_path):
     with pytest.raises(TypeError, match="mesh_a: None, and the tree has no mesh of its own"):
         tightbvh.collide(loaded, None, None, tree, None, None)
     assert tightbvh.collide(loaded, tree.mesh, None, tree, None, None).hit
+
+
+def test_package_exports_and_reprs(elephant):
+    for name in tightbvh.__all__:
+        assert hasattr(tightbvh, name), name
+    assert tightbvh.__version__.count(".") == 2
+    tree = tightbvh.build(elephant, fitter="pca")
+    assert repr(elephant) == "<tightbvh.Mesh: 2775 vertices, 5558 faces>"
+    assert repr(tree) == f"<tightbvh.Tree: {tree.node_count} nodes, 5558 triangles>"
+    assert repr(tree.validate()) == "<tightbvh.TreeCheck: valid>"
+    assert repr(tightbvh.collide(tree, None, None, tree, None, None)).startswith("<tightbvh.Result hit=True")
+    for method, kind in [("aabb", "Box"), ("ball", "Ball"), ("ellipsoid", "Ellipsoid"), ("dop18", "Dop")]:
+        assert repr(tightbvh.fit(elephant, method)).startswith(f"<tightbvh.{kind} ")

@@ -5,7 +5,7 @@
 //       split), our pca / approx / auto builds (threads = 1 unless --threads), median times,
 //       ratios, sums of node volumes and bytes per triangle (--no-tight: pca vs FCL only).
 //   tightbvh-build-bench --splits [MESH...]      sum of volumes per split method
-//   tightbvh-build-bench --auto-sweep [MESH...]  time and volume of auto per tight method and threshold
+//   tightbvh-build-bench --auto-sweep [MESH...]  time and volume of auto per pair of thresholds
 //   tightbvh-build-bench --scale MESH --triangles N --fitter F [--threads T]
 //       subdivides MESH 1->4 until it has >= N triangles, builds once, prints time and peak
 //       memory (getrusage; run one fitter per process to get each fitter's peak).
@@ -107,7 +107,7 @@ struct OurResult {
 OurResult our_build(const Mesh& mesh, const BuildOptions& options, int repeats) {
   OurResult r;
   if (const auto* m = std::get_if<FitMethod>(&options.fitter); m && !available(*m)) return r;
-  if (const auto* a = std::get_if<AutoFit>(&options.fitter); a && !(available(a->tight) && available(a->cheap)))
+  if (const auto* a = std::get_if<AutoFit>(&options.fitter); a && !(available(a->tight) && available(a->medium) && available(a->cheap)))
     return r;
   Tree tree;
   r.seconds = median_seconds(repeats, [&] { tree = build(mesh, options); });
@@ -235,21 +235,22 @@ int splits(const std::vector<std::filesystem::path>& meshes, unsigned threads) {
 // ------------------------------------------------------------------ auto threshold
 
 int auto_sweep(const std::vector<std::filesystem::path>& meshes, unsigned threads, int repeats) {
-  std::printf("auto = TIGHT on nodes with >= T triangles, pca below, the AABB where smaller; time relative to pca,\n"
-              "gain = 1 - sum vol / sum vol(pca), relative to approx's gain\n");
-  std::printf("| mesh | tight | T | seconds | time / pca | volume / pca | gain / approx's |\n|---|---|---|---|---|---|---|\n");
+  std::printf("auto = approx on nodes with >= T triangles, approx-kernel on nodes with >= M, pca below, the AABB\n"
+              "where smaller; time relative to pca, gain = 1 - sum vol / sum vol(pca), relative to approx's gain\n");
+  std::printf("| mesh | T | M | seconds | time / pca | volume / pca | gain / approx's |\n|---|---|---|---|---|---|---|\n");
   for (const auto& path : meshes) {
     const Mesh mesh = load_mesh(path);
     const OurResult pca = our_build(mesh, options_for(FitMethod::pca, threads), repeats);
     const OurResult approx = our_build(mesh, options_for(FitMethod::approx, threads), 1);
     const double approx_gain = 1 - approx.stats.sum_volume / pca.stats.sum_volume;
-    for (const FitMethod tight : {FitMethod::approx_kernel, FitMethod::approx})
-      for (const std::uint32_t t : {16u, 32u, 64u, 128u, 512u, 1u << 30}) {
-        const OurResult r = our_build(mesh, options_for(AutoFit{.tight_min_triangles = t, .tight = tight}, threads), repeats);
+    for (const std::uint32_t t : {512u, 2048u, 8192u, 1u << 30})
+      for (const std::uint32_t m : {16u, 32u, 64u, 1u << 30}) {
+        if (m > t) continue;
+        const AutoFit policy{.tight_min_triangles = t, .medium_min_triangles = m};
+        const OurResult r = our_build(mesh, options_for(policy, threads), repeats);
         const double volume = r.stats.sum_volume / pca.stats.sum_volume;
-        std::printf("| %s | %s | %u | %.4f | %.2f | %.4f | %.3f |\n", name_of(path).c_str(),
-                    std::string(to_string(tight)).c_str(), t, r.seconds, r.seconds / pca.seconds, volume,
-                    (1 - volume) / approx_gain);
+        std::printf("| %s | %u | %u | %.4f | %.2f | %.4f | %.3f |\n", name_of(path).c_str(), t, m, r.seconds,
+                    r.seconds / pca.seconds, volume, (1 - volume) / approx_gain);
         std::fflush(stdout);
       }
   }

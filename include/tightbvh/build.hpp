@@ -21,12 +21,14 @@ namespace tightbvh {
 // Tight fitting where it pays, cheap fitting where it does not. The sum of box volumes (what the
 // queries pay for) sits in the large nodes: on the corpus, nodes of >= 512 triangles hold 55-77%
 // of it and nodes of < 32 triangles 5-8%, while the small nodes are most of the nodes. Nodes with
-// at least `tight_min_triangles` triangles get `tight`, the others `cheap`. The defaults are
-// measured (README, "Tree builder"): approx-kernel, approx's search on an O(n) extreme-point
-// kernel, keeps ~95% of approx's volume gain over pca at a fraction of its build time.
+// at least `tight_min_triangles` triangles get `tight` (the full search), those with at least
+// `medium_min_triangles` get `medium` (approx-kernel: the search on an O(n) extreme-point kernel),
+// the others `cheap`. The defaults are measured (README, "Tree builder").
 struct AutoFit {
-  std::uint32_t tight_min_triangles = 32;
-  FitMethod tight = FitMethod::approx_kernel;
+  std::uint32_t tight_min_triangles = 2048;
+  FitMethod tight = FitMethod::approx;
+  std::uint32_t medium_min_triangles = 32;
+  FitMethod medium = FitMethod::approx_kernel;
   FitMethod cheap = FitMethod::pca;
   bool or_aabb = true;  // keep the AABB instead when it is smaller (it costs one pass)
   friend bool operator==(const AutoFit&, const AutoFit&) = default;

@@ -127,7 +127,8 @@ class Builder {
   [[nodiscard]] FitMethod method_for(Index count) const {
     if (const auto* method = std::get_if<FitMethod>(&options_.fitter)) return *method;
     const AutoFit& a = std::get<AutoFit>(options_.fitter);
-    return count >= a.tight_min_triangles ? a.tight : a.cheap;
+    if (count >= a.tight_min_triangles) return a.tight;
+    return count >= a.medium_min_triangles ? a.medium : a.cheap;
   }
 
   // The distinct mesh vertices of the node's triangles (positions [begin, end) of order_).

@@ -1,7 +1,7 @@
 #pragma once
 // The data of a view page as JSON for its script (page.html): meshes, boxes per tree level,
-// volumes, contacts. Coordinates go out rounded to about 1e-6 of the scene's size (axes to 1e-6):
-// enough to draw, and half the text of full doubles.
+// volumes, contacts. Coordinates go out rounded to 1e-5 of the power of ten of the scene's size
+// (axes to 1e-5): enough to draw, and half the text of full doubles.
 #include <cstddef>
 #include <nlohmann/json.hpp>
 #include <span>

@@ -2,6 +2,7 @@
 // the mesh with the boxes of one tree level drawn over it, one panel per fitter (default: pca
 // next to the default fitter, so the difference in tightness is visible), the level selectable
 // in the page, each level's sum of box volumes printed (apps/view/).
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -20,7 +21,8 @@ namespace {
 struct ViewArgs {
   std::string mesh, output = "tightbvh-view";
   std::vector<std::string> fitters{"pca", to_string(BuildOptions{}.fitter)};
-  std::size_t level = 3;
+  std::size_t level = 3;  // without --level: at most the trees' depth
+  bool level_given = false;
   std::uint32_t leaf_size = 1;
   unsigned threads = 0;
 };
@@ -48,17 +50,18 @@ void run_view(const ViewArgs& args) {
     built.push_back(build_with_stats(mesh, options));
     depth_max = std::max(depth_max, built.back().stats.tree.depth_max);
   }
-  if (args.level > depth_max)
+  const std::size_t level = args.level_given ? args.level : std::min(args.level, depth_max);
+  if (level > depth_max)
     throw InputError("--level " + std::to_string(args.level) + " is deeper than the trees (max depth " +
                      std::to_string(depth_max) + ")");
   nlohmann::json trees = nlohmann::json::array();
   for (std::size_t i = 0; i < fitters.size(); ++i)
-    trees.push_back(view::tree_json(to_string(fitters[i]), built[i], args.level));
+    trees.push_back(view::tree_json(to_string(fitters[i]), built[i], level));
   const std::string title = std::filesystem::path(args.mesh).filename().string() + ": tree boxes, " +
                             std::to_string(mesh.triangles.size()) + " triangles";
-  const auto page = view::write_page(args.output, view::trees_scene(title, mesh, args.level, std::move(trees)));
+  const auto page = view::write_page(args.output, view::trees_scene(title, mesh, level, std::move(trees)));
   std::cout << "wrote " << page.string() << " (" << fitters.size() << " fitters, levels 0.." << depth_max << ", level "
-            << args.level << " shown first)\n";
+            << level << " shown first)\n";
 }
 
 }  // namespace
@@ -76,7 +79,10 @@ void add_view_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "build threads (0: all cores)")->capture_default_str();
   cmd->add_option("-o,--output", args->output, "directory for index.html")->capture_default_str();
-  cmd->callback([args] { run_view(*args); });
+  cmd->callback([args, cmd] {
+    args->level_given = cmd->count("--level") > 0;
+    run_view(*args);
+  });
 }
 
 }  // namespace tightbvh::cli

@@ -7,6 +7,7 @@ namespace tightbvh::cli {
 void add_info_command(CLI::App& app);     // cmd_info.cpp
 void add_fit_command(CLI::App& app);      // cmd_fit.cpp
 void add_build_command(CLI::App& app);    // cmd_build.cpp (build, inspect)
-void add_collide_command(CLI::App& app);  // cmd_collide.cpp
+void add_collide_command(CLI::App& app);  // cmd_collide.cpp (--view: apps/view/)
+void add_view_command(CLI::App& app);     // cmd_view.cpp (apps/view/)
 
 }  // namespace tightbvh::cli

@@ -3,6 +3,7 @@
 //   fit a box to the node's triangle corners -> split the triangles -> recurse on both halves.
 // Every node's box is fitted from the node's own corners, never merged from the children's
 // (merging OBBs, as FCL's operator+ does, loses tightness and even containment).
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -61,8 +62,15 @@ struct BuildResult {
   BuildStats stats;
 };
 
+// approx-snap runs an exact minimum box on every node's snapped hull: knot1's 6,400 triangles
+// take ~2 minutes on one core, and the time grows faster than the triangle count. Builds with it
+// are refused above this size (they would not finish in 10 minutes); `approx` is the practical
+// (1+eps) fitter for trees.
+inline constexpr std::size_t kMaxApproxSnapTriangles = 20'000;
+
 // Pure; the result is the same bit for bit for any `threads`. Throws InputError for an invalid
-// mesh (see check_mesh), more than 2^32 - 2 triangles or leaf_size == 0.
+// mesh (see check_mesh), more than 2^32 - 2 triangles, leaf_size == 0, or approx-snap on more
+// than kMaxApproxSnapTriangles triangles.
 [[nodiscard]] Tree build(const Mesh& mesh, const BuildOptions& options = {});
 [[nodiscard]] BuildResult build_with_stats(const Mesh& mesh, const BuildOptions& options = {});
 

@@ -63,6 +63,13 @@ using Index = std::uint32_t;
   return box;
 }
 
+// Whether the fitter may run `method` on some node.
+[[nodiscard]] bool uses(const Fitter& fitter, FitMethod method) {
+  if (const auto* m = std::get_if<FitMethod>(&fitter)) return *m == method;
+  const AutoFit& a = std::get<AutoFit>(fitter);
+  return a.tight == method || a.medium == method || a.cheap == method;
+}
+
 // Range of triangle_order owned by a node being built.
 struct Pending {
   Index node;
@@ -277,6 +284,10 @@ Tree build(const Mesh& mesh, const BuildOptions& options) {
   if (mesh.triangles.size() >= std::numeric_limits<Index>::max())
     throw InputError("build: more than 2^32 - 2 triangles");
   if (options.leaf_size == 0) throw InputError("build: leaf_size must be at least 1");
+  if (uses(options.fitter, FitMethod::approx_snap) && mesh.triangles.size() > kMaxApproxSnapTriangles)
+    throw InputError("build: approx-snap is limited to " + std::to_string(kMaxApproxSnapTriangles) +
+                     " triangles (an exact box per node: it would take hours on " +
+                     std::to_string(mesh.triangles.size()) + "); use approx");
   const auto n = static_cast<Index>(mesh.triangles.size());
 
   Tree tree;

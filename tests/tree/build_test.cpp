@@ -277,6 +277,19 @@ TEST(BuildOptionsTest, AutoUsesTightFitterAboveThreshold) {
   EXPECT_GT(rotated, tree.nodes.size() / 2);  // most nodes are small: pca
 }
 
+TEST(BuildOptionsTest, ApproxSnapIsRefusedAboveItsLimit) {
+  Mesh mesh = load_relative("meshes/knot1.off");
+  mesh = subdivide_midpoints(mesh);  // 25,600 triangles
+  ASSERT_GT(mesh.triangles.size(), kMaxApproxSnapTriangles);
+  try {
+    (void)build(mesh, with(FitMethod::approx_snap));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("approx-snap is limited to 20000 triangles"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW((void)build(mesh, with(AutoFit{.cheap = FitMethod::approx_snap})), InputError);
+}
+
 TEST(BuildOptionsTest, AutoUsesTheMediumFitterBetweenTheThresholds) {
   // tight = cheap = pca and medium = aabb: exactly the nodes of [100, 1000) triangles are axis-aligned.
   const Mesh mesh = load_relative("meshes/elephant.off");

@@ -1,6 +1,8 @@
 // tightbvh-fit-vs-cgal: our `approx` and `exact` against CGAL::oriented_bounding_box
 // (Chang, Gorissen & Melchior 2011, as implemented in CGAL's Optimal_bounding_box package) on
 // every mesh of a directory: volume ratio and time ratio (medians of a few repetitions).
+// Sub-modes: --balls (ball_vs_cgal.hpp), --ellipsoids (ellipsoid_vs_cgal.hpp), --containers
+// (containers_table.hpp, Sunday's table over every container), --hulls.
 // The only translation unit that includes CGAL.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Optimal_bounding_box/oriented_bounding_box.h>
@@ -20,6 +22,8 @@
 
 #include "../thread_clock.hpp"
 #include "ball_vs_cgal.hpp"
+#include "containers_table.hpp"
+#include "ellipsoid_vs_cgal.hpp"
 #include "tightbvh/fit.hpp"
 #include "tightbvh/hull.hpp"
 #include "tightbvh/mesh.hpp"
@@ -125,6 +129,19 @@ int main(int argc, char** argv) {
   app.add_option("--hulls", hulls_mesh, "only time our convex_hull vs CGAL::convex_hull_3 on nodes of this mesh");
   bool balls = false;
   app.add_flag("--balls", balls, "only compare bounding_ball with CGAL::Min_sphere_of_spheres_d (and fast_ball)");
+  bool ellipsoids = false;
+  app.add_flag("--ellipsoids", ellipsoids,
+               "only compare bounding_ellipsoid with CGAL::Approximate_min_ellipsoid_d at --epsilon");
+  bool containers = false;
+  app.add_flag("--containers", containers,
+               "only print Sunday's table: every container's volume relative to the exact box, and fit time");
+  double epsilon = 0.01;
+  app.add_option("--epsilon", epsilon, "ellipsoid (1+eps) volume approximation (--ellipsoids, --containers)")
+      ->capture_default_str();
+  std::size_t ellipsoid_max_vertices = 1000000;
+  app.add_option("--ellipsoid-max-vertices", ellipsoid_max_vertices,
+                 "--ellipsoids: skip meshes with more vertices (CGAL's time cap)")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (!hulls_mesh.empty()) {
     compare_hulls(hulls_mesh);
@@ -142,6 +159,8 @@ int main(int argc, char** argv) {
   }
   std::sort(files.begin(), files.end());
   if (balls) return tightbvh::ball_bench::compare_balls(files);
+  if (ellipsoids) return tightbvh::ellipsoid_bench::compare_ellipsoids(files, epsilon, ellipsoid_max_vertices);
+  if (containers) return tightbvh::containers_bench::compare_containers(files, epsilon, exact_max_hull);
 
   nlohmann::json out = nlohmann::json::array();
   std::printf("%-34s %8s %6s %12s %9s | %9s %9s %8s | %9s %9s\n", "mesh", "vertices", "hull", "cgal volume", "cgal s",

@@ -22,8 +22,10 @@ namespace tightbvh::bench {
 // A touching triangle pair: (triangle of A, triangle of B), original mesh indices.
 using Pair = std::pair<std::uint32_t, std::uint32_t>;
 
-enum class Mode { first_hit, all_pairs };
-[[nodiscard]] inline const char* to_string(Mode m) { return m == Mode::first_hit ? "first_hit" : "all_pairs"; }
+enum class Mode { first_hit, all_pairs, distance };
+[[nodiscard]] inline const char* to_string(Mode m) {
+  return m == Mode::first_hit ? "first_hit" : (m == Mode::all_pairs ? "all_pairs" : "distance");
+}
 
 struct Input {
   std::string name_a, name_b;
@@ -40,21 +42,35 @@ struct TimingOptions {
 struct Answers {
   std::vector<std::uint8_t> hit;          // per pose
   std::vector<std::vector<Pair>> pairs;   // per pose, sorted; empty in first_hit mode
+  std::vector<double> distance;           // per pose, distance mode only
 };
 
 // An adapter A provides:
 //   bool first_hit(const Pose& b_in_a);                       // any touching pair?
 //   void all_pairs(const Pose& b_in_a, std::vector<Pair>& out); // appends every pair found
+// and, for engines with EngineInfo::distance,
+//   double distance(const Pose& b_in_a);                      // minimum distance (0: touching)
 // Pose = the rigid transform applied to B's vertices in A's frame (A at identity).
 
 // The untimed pass whose answers are checked (it is also the warm-up).
+// The distance of an adapter that has one (only called for engines with EngineInfo::distance).
+template <class A>
+[[nodiscard]] double distance_of(A& adapter, const Pose& pose) {
+  if constexpr (requires { adapter.distance(pose); }) return adapter.distance(pose);
+  else return -1.0;
+}
+
 template <class A>
 [[nodiscard]] Answers answer_all(A& adapter, Mode mode, std::span<const Pose> poses) {
   Answers out;
   out.hit.resize(poses.size());
   if (mode == Mode::all_pairs) out.pairs.resize(poses.size());
+  if (mode == Mode::distance) out.distance.resize(poses.size());
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    if (mode == Mode::first_hit) {
+    if (mode == Mode::distance) {
+      out.distance[i] = distance_of(adapter, poses[i]);
+      out.hit[i] = out.distance[i] == 0.0 ? 1 : 0;
+    } else if (mode == Mode::first_hit) {
       out.hit[i] = adapter.first_hit(poses[i]) ? 1 : 0;
     } else {
       auto& pairs = out.pairs[i];
@@ -77,7 +93,9 @@ template <class A>
   std::size_t sink = 0;  // keeps the optimiser from dropping the queries
   const double t0 = thread_seconds();
   for (int k = 0; k < inner; ++k) {
-    if (mode == Mode::first_hit) {
+    if (mode == Mode::distance) {
+      for (const Pose& p : poses) sink += distance_of(adapter, p) > 0.0 ? 1 : 0;
+    } else if (mode == Mode::first_hit) {
       for (const Pose& p : poses) sink += adapter.first_hit(p) ? 1 : 0;
     } else {
       for (const Pose& p : poses) {
@@ -147,6 +165,7 @@ struct EngineInfo {
   bool all_pairs = true;   // reports triangle pairs
   std::string note;        // what the engine cannot do, shown in the README/report
   std::function<std::unique_ptr<Prepared>(const Input&)> build;
+  bool distance = false;   // answers minimum-distance queries
 };
 
 // Engine registries, one per translation unit.
@@ -162,6 +181,7 @@ class Reference {
   ~Reference();
   [[nodiscard]] bool collides(const Pose& b_in_a) const;
   [[nodiscard]] std::vector<Pair> pairs(const Pose& b_in_a) const;  // sorted
+  [[nodiscard]] double distance(const Pose& b_in_a) const;
   [[nodiscard]] std::string description() const;
 
  private:

@@ -1,6 +1,7 @@
 #include "check.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 
 #include <fcl/narrowphase/detail/primitive_shape_algorithm/triangle_distance.h>
@@ -47,6 +48,16 @@ bool separable_within(const PlacedPair& p, double tol) {
 
 double triangle_distance(const Input& in, const Pose& pose, Pair pair) {
   return distance(placed(in, pose, pair), Vec3::Zero());
+}
+
+Agreement compare_distances(const Answers& got, const std::vector<double>& reference, double scale) {
+  Agreement a;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    const double error = std::abs(got.distance[i] - reference[i]);
+    a.max_distance_error = std::max(a.max_distance_error, error);
+    if (!(error <= 1e-9 * reference[i] + 1e-12 * scale)) ++a.distances;
+  }
+  return a;
 }
 
 Agreement compare(const Input& in, Mode mode, const Answers& got, const std::vector<std::vector<Pair>>& reference,

@@ -4,6 +4,7 @@
 #include "fcl_adapter.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
+#include "tightbvh/distance.hpp"
 #include "tightbvh/fcl/export.hpp"
 
 namespace tightbvh::bench {
@@ -30,6 +31,9 @@ class TightbvhAdapter {
         collide(a_, ma_, Pose::identity(), b_, mb_, pose, {.mode = QueryMode::all_pairs}, workspace_);
     for (const TrianglePair& p : r.pairs) out.emplace_back(p.a, p.b);
   }
+  [[nodiscard]] double distance(const Pose& pose) const {
+    return tightbvh::distance(a_, ma_, Pose::identity(), b_, mb_, pose, {}, workspace_).distance;
+  }
 
  private:
   const Mesh& ma_;
@@ -42,7 +46,8 @@ class TightbvhAdapter {
 
 EngineInfo ours(const std::string& name, Fitter fitter) {
   return {name, true, true, "",
-          [fitter](const Input& in) { return prepare([&] { return std::make_unique<TightbvhAdapter>(in, fitter); }); }};
+          [fitter](const Input& in) { return prepare([&] { return std::make_unique<TightbvhAdapter>(in, fitter); }); },
+          true};
 }
 
 // Our tree (fitter `method` everywhere, also below our leaves) exported into FCL's BVHModel<OBB>.
@@ -106,10 +111,17 @@ std::vector<Pair> Reference::pairs(const Pose& p) const {
   return out;
 }
 
+double Reference::distance(const Pose& p) const {
+  return impl_->brute ? distance_brute_force(impl_->in.a, Pose::identity(), impl_->in.b, p).distance
+                      : tightbvh::distance(impl_->a, impl_->in.a, Pose::identity(), impl_->b, impl_->in.b, p, {},
+                                           impl_->workspace)
+                            .distance;
+}
+
 std::string Reference::description() const {
-  return impl_->brute ? "tightbvh collide_brute_force (every triangle pair), all pairs"
-                      : "tightbvh collide all_pairs on AABB trees (verified against brute force by the collide "
-                        "tests; meshes too large for brute force here)";
+  return impl_->brute ? "tightbvh collide_brute_force / distance_brute_force (every triangle pair)"
+                      : "tightbvh collide all_pairs / distance on AABB trees (verified against brute force by the "
+                        "collide and distance tests; meshes too large for brute force here)";
 }
 
 }  // namespace tightbvh::bench

@@ -38,7 +38,9 @@ namespace tightbvh {
     const double gap = std::abs(tj) - ra - eb[j];
     if (gap > 0.0) in_b += gap * gap;
   }
-  double best = std::sqrt(std::max(in_a, in_b));
+  // The edge axes compete in squared form (gap^2 / |axis|^2 against best^2), so that only the
+  // winner pays for a square root and a division.
+  double best_squared = std::max(in_a, in_b), winner_gap = 0.0, winner_axis = 1.0;
   for (int i = 0; i < 3; ++i) {
     const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
     for (int j = 0; j < 3; ++j) {
@@ -48,10 +50,15 @@ namespace tightbvh {
       const double gap = std::abs(t[i2] * r(i1, j) - t[i1] * r(i2, j)) - ra - rb;
       if (gap <= 0.0) continue;
       // |A_i x B_j|^2 = 1 - r_ij^2; nearly parallel edges (short axis) keep the unnormalised gap.
-      const double axis_squared = 1.0 - r(i, j) * r(i, j);
-      best = std::max(best, axis_squared > 1e-6 ? gap / std::sqrt(axis_squared) : gap);
+      double axis_squared = 1.0 - r(i, j) * r(i, j);
+      if (axis_squared <= 1e-6) axis_squared = 1.0;
+      if (gap * gap > best_squared * axis_squared) {
+        best_squared = gap * gap / axis_squared;
+        winner_gap = gap, winner_axis = axis_squared;
+      }
     }
   }
+  const double best = winner_gap > 0.0 ? winner_gap / std::sqrt(winner_axis) : std::sqrt(best_squared);
   return best;
 }
 

@@ -17,9 +17,20 @@ struct Closest {
   Vec3 p = Vec3::Zero();
   Vec3 q = Vec3::Zero();
 
-  void offer(const Vec3& on_p, const Vec3& on_q) {
+  // True when the pair became the best.
+  bool offer(const Vec3& on_p, const Vec3& on_q) {
     const double d2 = (on_p - on_q).squaredNorm();
-    if (d2 < squared) squared = d2, p = on_p, q = on_q;
+    if (!(d2 < squared)) return false;
+    squared = d2, p = on_p, q = on_q;
+    return true;
+  }
+  // The planes through p and q normal to v = q - p have P on one side and Q on the other: no
+  // pair of points is closer, so the search may stop (PQP's early exit).
+  [[nodiscard]] bool separates(const std::array<Vec3, 3>& tp, const std::array<Vec3, 3>& tq) const {
+    const Vec3 v = q - p;
+    for (int i = 0; i < 3; ++i)
+      if ((tp[i] - p).dot(v) > 0.0 || (tq[i] - q).dot(v) < 0.0) return false;
+    return squared > 0.0;
   }
 };
 
@@ -43,15 +54,13 @@ constexpr double kNearlyParallel = 1e-6;
 
 // Closest points of segments [p0, p1] and [q0, q1]: minimise |r + s u - t v|^2 over [0,1]^2
 // (r = p0 - q0); the unconstrained s, then t for that s, then s again if t was clamped.
-void segment_segment(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1, Closest& best) {
+// Returns true when it improved `best`.
+bool segment_segment(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1, Closest& best) {
   const Vec3 u = p1 - p0, v = q1 - q0, r = p0 - q0;
   const double a = u.squaredNorm(), e = v.squaredNorm();
   if (a == 0.0 || e == 0.0) {  // a point against a segment (or a point)
-    if (a == 0.0)
-      best.offer(p0, closest_on_segment(p0, q0, q1, v));
-    else
-      best.offer(closest_on_segment(q0, p0, p1, u), q0);
-    return;
+    if (a == 0.0) return best.offer(p0, closest_on_segment(p0, q0, q1, v));
+    return best.offer(closest_on_segment(q0, p0, p1, u), q0);
   }
   const double b = u.dot(v), c = u.dot(r), f = v.dot(r);
   const double det = a * e - b * b;
@@ -62,13 +71,14 @@ void segment_segment(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3&
   } else if (t > 1.0) {
     t = 1.0, s = clamp01((b - c) / a);
   }
-  best.offer(at(p0, p1, u, s), at(q0, q1, v, t));
+  bool improved = best.offer(at(p0, p1, u, s), at(q0, q1, v, t));
   if (det <= kNearlyParallel * a * e) {
-    best.offer(p0, closest_on_segment(p0, q0, q1, v));
-    best.offer(p1, closest_on_segment(p1, q0, q1, v));
-    best.offer(closest_on_segment(q0, p0, p1, u), q0);
-    best.offer(closest_on_segment(q1, p0, p1, u), q1);
+    improved |= best.offer(p0, closest_on_segment(p0, q0, q1, v));
+    improved |= best.offer(p1, closest_on_segment(p1, q0, q1, v));
+    improved |= best.offer(closest_on_segment(q0, p0, p1, u), q0);
+    improved |= best.offer(closest_on_segment(q1, p0, p1, u), q1);
   }
+  return improved;
 }
 
 // A triangle's plane, or none for (nearly) degenerate triangles: with sin(angle) < 1e-10 the
@@ -124,11 +134,15 @@ void edge_crossing(const Vec3& a, const Vec3& b, const Face& face, bool edge_on_
     best.offer(y, x);
 }
 
-// The closest pair of two triangles given in canonical order.
+// The closest pair of two triangles given in canonical order. Disjoint triangles stop at the
+// first candidate whose pair is provably closest (Closest::separates).
 Closest closest_pair(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>& q, bool touching) {
   Closest best;
+  const bool may_stop = !touching;
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) segment_segment(p[i], p[(i + 1) % 3], q[j], q[(j + 1) % 3], best);
+    for (int j = 0; j < 3; ++j)
+      if (segment_segment(p[i], p[(i + 1) % 3], q[j], q[(j + 1) % 3], best) && may_stop && best.separates(p, q))
+        return best;
   const Face face_p(p[0], p[1], p[2]), face_q(q[0], q[1], q[2]);
   for (int i = 0; i < 3; ++i) {
     vertex_face(p[i], face_q, true, best);

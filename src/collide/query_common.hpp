@@ -44,7 +44,7 @@ inline void check_tree_fits_mesh(const char* query, const Tree& tree, const Mesh
   const Vec3 p_lo = p0.cwiseMin(p1).cwiseMin(p2), p_hi = p0.cwiseMax(p1).cwiseMax(p2);
   const Vec3 q_lo = q0.cwiseMin(q1).cwiseMin(q2), q_hi = q0.cwiseMax(q1).cwiseMax(q2);
   if (((q_lo - p_hi).array() > margin).any() || ((p_lo - q_hi).array() > margin).any()) return false;
-  return tri_tri_distance(p0, p1, p2, q0, q1, q2).distance <= margin;
+  return tri_tri_within(p0, p1, p2, q0, q1, q2, margin);
 }
 
 }  // namespace tightbvh::query_detail

@@ -134,15 +134,22 @@ void edge_crossing(const Vec3& a, const Vec3& b, const Face& face, bool edge_on_
     best.offer(y, x);
 }
 
+// The reported distance of disjoint triangles whose closest pair is `squared` apart: never 0,
+// even when the closest points round to the same double.
+[[nodiscard]] inline double disjoint_distance(double squared) {
+  return std::max(std::sqrt(squared), std::numeric_limits<double>::min());
+}
+
 // The closest pair of two triangles given in canonical order. Disjoint triangles stop at the
-// first candidate whose pair is provably closest (Closest::separates).
-Closest closest_pair(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>& q, bool touching) {
+// first candidate whose pair is provably closest (Closest::separates), or, with `enough` >= 0,
+// at the first whose distance is <= enough (tri_tri_within needs no more).
+Closest closest_pair(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>& q, bool touching, double enough = -1.0) {
   Closest best;
   const bool may_stop = !touching;
+  const auto done = [&] { return best.separates(p, q) || disjoint_distance(best.squared) <= enough; };
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      if (segment_segment(p[i], p[(i + 1) % 3], q[j], q[(j + 1) % 3], best) && may_stop && best.separates(p, q))
-        return best;
+      if (segment_segment(p[i], p[(i + 1) % 3], q[j], q[(j + 1) % 3], best) && may_stop && done()) return best;
   const Face face_p(p[0], p[1], p[2]), face_q(q[0], q[1], q[2]);
   for (int i = 0; i < 3; ++i) {
     vertex_face(p[i], face_q, true, best);
@@ -157,31 +164,39 @@ Closest closest_pair(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>& q,
   return best;
 }
 
-}  // namespace
-
-TriangleDistance tri_tri_distance(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
-                                  const Vec3& q0, const Vec3& q1, const Vec3& q2) {
-  const bool touching = tri_tri_overlap(p0, p1, p2, q0, q1, q2);
-  // Canonical order (lexicographic on the nine coordinates of each), so that swapping the two
-  // triangles swaps the points and leaves every rounding, hence the distance, unchanged.
-  std::array<Vec3, 3> p{p0, p1, p2}, q{q0, q1, q2};
+// Canonical order (lexicographic on the nine coordinates of each), so that swapping the two
+// triangles swaps the points and leaves every rounding, hence the distance, unchanged.
+[[nodiscard]] bool canonical_swap(std::array<Vec3, 3>& p, std::array<Vec3, 3>& q) {
   const auto key = [](const std::array<Vec3, 3>& t) {
     return std::array<double, 9>{t[0].x(), t[0].y(), t[0].z(), t[1].x(), t[1].y(),
                                  t[1].z(), t[2].x(), t[2].y(), t[2].z()};
   };
   const bool swapped = key(q) < key(p);
   if (swapped) std::swap(p, q);
+  return swapped;
+}
+
+}  // namespace
+
+TriangleDistance tri_tri_distance(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
+                                  const Vec3& q0, const Vec3& q1, const Vec3& q2) {
+  const bool touching = tri_tri_overlap(p0, p1, p2, q0, q1, q2);
+  std::array<Vec3, 3> p{p0, p1, p2}, q{q0, q1, q2};
+  const bool swapped = canonical_swap(p, q);
   const Closest best = closest_pair(p, q, touching);
   TriangleDistance result;
   result.point_p = swapped ? best.q : best.p;
   result.point_q = swapped ? best.p : best.q;
-  if (touching) {
-    result.distance = 0.0;
-  } else {
-    // Disjoint (exactly): never 0, even when the closest points round to the same double.
-    result.distance = std::max(std::sqrt(best.squared), std::numeric_limits<double>::min());
-  }
+  result.distance = touching ? 0.0 : disjoint_distance(best.squared);
   return result;
+}
+
+bool tri_tri_within(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
+                    const Vec3& q0, const Vec3& q1, const Vec3& q2, double margin) {
+  if (tri_tri_overlap(p0, p1, p2, q0, q1, q2)) return true;
+  std::array<Vec3, 3> p{p0, p1, p2}, q{q0, q1, q2};
+  (void)canonical_swap(p, q);  // the order alone matters here
+  return disjoint_distance(closest_pair(p, q, false, margin).squared) <= margin;
 }
 
 }  // namespace tightbvh

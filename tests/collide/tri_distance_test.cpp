@@ -191,6 +191,26 @@ TEST(TriDistance, ConsistentWithTheTouchingPredicateOnRandomNearContacts) {
   EXPECT_GT(apart, 300);
 }
 
+TEST(TriDistance, WithinIsTheDistanceComparedToTheMargin) {
+  std::mt19937_64 rng(3);
+  std::uniform_int_distribution<int> g(0, 3);
+  int within = 0, beyond = 0;
+  for (int k = 0; k < 2000; ++k) {
+    Tri p, q;
+    for (Vec3& v : p) v = Vec3(g(rng), g(rng), g(rng) * 0.5);
+    for (Vec3& v : q) v = Vec3(g(rng), g(rng), g(rng) * 0.5) + (k % 2 ? random_point(rng, 0.3) : Vec3::Zero());
+    const double d = tri_tri_distance(p, q).distance;
+    for (const double margin : {0.0, 0.1, 0.5, d, std::nextafter(d, 0.0), 1.0}) {
+      const bool w = tri_tri_within(p[0], p[1], p[2], q[0], q[1], q[2], margin);
+      EXPECT_EQ(w, d <= margin) << k << " margin " << margin;
+      EXPECT_EQ(w, tri_tri_within(q[0], q[1], q[2], p[0], p[1], p[2], margin));
+      (w ? within : beyond) += 1;
+    }
+  }
+  EXPECT_GT(within, 2000);
+  EXPECT_GT(beyond, 2000);
+}
+
 TEST(TriDistance, NearlyParallelEdges) {
   // Two long edges at an angle of ~1e-9 rad with a gap of 1e-3: the 2x2 solve cancels; the
   // endpoint candidates keep the answer right.

@@ -60,6 +60,25 @@ Agreement compare_distances(const Answers& got, const std::vector<double>& refer
   return a;
 }
 
+Agreement compare_exact_pairs(const Answers& got, const std::vector<std::vector<Pair>>& reference) {
+  Agreement a;
+  std::vector<Pair> differ;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    differ.clear();
+    std::set_difference(reference[i].begin(), reference[i].end(), got.pairs[i].begin(), got.pairs[i].end(),
+                        std::back_inserter(differ));
+    const long missing = long(differ.size());
+    differ.clear();
+    std::set_difference(got.pairs[i].begin(), got.pairs[i].end(), reference[i].begin(), reference[i].end(),
+                        std::back_inserter(differ));
+    const long extra = long(differ.size());
+    a.missing += missing, a.extra += extra;
+    if (missing + extra > 0) ++a.pair_sets;
+    if (bool(got.hit[i]) != !reference[i].empty()) ++a.yes_no;
+  }
+  return a;
+}
+
 Agreement compare(const Input& in, Mode mode, const Answers& got, const std::vector<std::vector<Pair>>& reference,
                   const std::vector<Pose>& poses, double tolerance) {
   Agreement a;

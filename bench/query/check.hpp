@@ -29,6 +29,9 @@ struct Agreement {
 // Distance mode: an answer agrees when |d - reference| <= 1e-9 reference + 1e-12 scale.
 [[nodiscard]] Agreement compare_distances(const Answers& got, const std::vector<double>& reference, double scale);
 
+// Margin mode: the pair sets must be equal (the same predicate on the same triangles).
+[[nodiscard]] Agreement compare_exact_pairs(const Answers& got, const std::vector<std::vector<Pair>>& reference);
+
 // Distance between triangle ta of A and triangle tb of B placed at `pose` (0 if they touch).
 [[nodiscard]] double triangle_distance(const Input& in, const Pose& pose, Pair pair);
 

@@ -87,7 +87,8 @@ void add_options(CLI::App& app, Options& o) {
       ->capture_default_str();
   app.add_option("--poses-file", o.poses_file, "read poses (12 numbers a line) instead of generating them");
   app.add_option("--write-poses", o.write_poses_file, "save the generated poses");
-  app.add_option("--modes", o.modes_arg, "comma-separated: first_hit, all_pairs, distance")->capture_default_str();
+  app.add_option("--modes", o.modes_arg, "comma-separated: first_hit, all_pairs, distance, margin (1% of the scale)")
+      ->capture_default_str();
   app.add_option("--repetitions", o.repetitions, "timed passes (median reported)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
@@ -127,8 +128,9 @@ std::optional<Selection> parse_selection(const Options& o, std::vector<tb::Engin
     if (m == "first_hit") sel.modes.push_back(tb::Mode::first_hit);
     else if (m == "all_pairs") sel.modes.push_back(tb::Mode::all_pairs);
     else if (m == "distance") sel.modes.push_back(tb::Mode::distance);
+    else if (m == "margin") sel.modes.push_back(tb::Mode::margin);
     else {
-      std::cerr << "tightbvh-bench: unknown mode '" << m << "' (first_hit, all_pairs, distance)\n";
+      std::cerr << "tightbvh-bench: unknown mode '" << m << "' (first_hit, all_pairs, distance, margin)\n";
       return std::nullopt;
     }
   }
@@ -190,18 +192,21 @@ class Run {
                  : tb::read_poses(o_.poses_file);
     if (!scenario) info_.poses = int(ps.size());
     if (!o_.write_poses_file.empty()) written.insert(written.end(), ps.begin(), ps.end());
-    const bool want_distance = std::count(sel_.modes.begin(), sel_.modes.end(), tb::Mode::distance) > 0;
-    const bool want_pairs = !want_distance || sel_.modes.size() > 1;
+    const auto wants = [&](tb::Mode m) { return std::count(sel_.modes.begin(), sel_.modes.end(), m) > 0; };
+    const bool want_distance = wants(tb::Mode::distance), want_margin = wants(tb::Mode::margin);
+    const bool want_pairs = wants(tb::Mode::first_hit) || wants(tb::Mode::all_pairs);
     std::vector<std::vector<tb::Pair>> ref_pairs(ps.size());
     std::vector<double> ref_distance(want_distance ? ps.size() : 0);
+    std::vector<std::vector<tb::Pair>> ref_margin(want_margin ? ps.size() : 0);
     for (std::size_t i = 0; i < ps.size(); ++i) {
       if (want_pairs) ref_pairs[i] = reference_.pairs(ps[i]);
       if (want_distance) ref_distance[i] = reference_.distance(ps[i]);
+      if (want_margin) ref_margin[i] = reference_.margin_pairs(ps[i]);
       progress_.show(sname + ": reference", double(i + 1) / ps.size());
     }
     std::vector<Job> jobs = prepare(sname, ps);
     time_passes(sname, ps, jobs);
-    add_rows(sname, ps, jobs, ref_pairs, ref_distance);
+    add_rows(sname, ps, jobs, ref_pairs, ref_distance, ref_margin);
   }
 
   std::map<std::string, std::unique_ptr<tb::Prepared>> built;
@@ -259,22 +264,40 @@ class Run {
   }
 
   [[nodiscard]] static bool supports(const tb::EngineInfo& e, tb::Mode mode) {
-    return mode == tb::Mode::first_hit ? e.first_hit : (mode == tb::Mode::all_pairs ? e.all_pairs : e.distance);
+    switch (mode) {
+      case tb::Mode::first_hit: return e.first_hit;
+      case tb::Mode::all_pairs: return e.all_pairs;
+      case tb::Mode::distance: return e.distance;
+      case tb::Mode::margin: return e.margin;
+    }
+    return false;
   }
 
   void add_rows(const std::string& sname, const std::vector<Pose>& ps, const std::vector<Job>& jobs,
-                const std::vector<std::vector<tb::Pair>>& ref_pairs, const std::vector<double>& ref_distance) {
+                const std::vector<std::vector<tb::Pair>>& ref_pairs, const std::vector<double>& ref_distance,
+                const std::vector<std::vector<tb::Pair>>& ref_margin) {
     for (const Job& job : jobs) {
       tb::Row row{sname, job.info->name, job.mode, job.engine->build_seconds, ps.size(), tb::median(job.times),
                   int(job.times.size()), 0, 0, {}, {}};
       for (std::size_t i = 0; i < ps.size(); ++i) {
         row.hits += job.answers.hit[i];
-        if (job.mode == tb::Mode::all_pairs) row.pairs += job.answers.pairs[i].size();
+        if (tb::reports_pairs(job.mode)) row.pairs += job.answers.pairs[i].size();
       }
-      row.agreement = job.mode == tb::Mode::distance
-                          ? tb::compare_distances(job.answers, ref_distance, input_.scale)
-                          : tb::compare(input_, job.mode, job.answers, ref_pairs, ps, info_.tolerance);
+      if (job.mode == tb::Mode::distance)
+        row.agreement = tb::compare_distances(job.answers, ref_distance, input_.scale);
+      else if (job.mode == tb::Mode::margin)
+        row.agreement = tb::compare_exact_pairs(job.answers, ref_margin);
+      else
+        row.agreement = tb::compare(input_, job.mode, job.answers, ref_pairs, ps, info_.tolerance);
       rows.push_back(std::move(row));
+    }
+    if (!ref_margin.empty()) {
+      tb::Row ref_row{sname, "reference", tb::Mode::margin, 0, ps.size(), 0, 0, 0, 0, {}, {}};
+      for (const auto& p : ref_margin) {
+        ref_row.hits += p.empty() ? 0 : 1;
+        ref_row.pairs += p.size();
+      }
+      rows.push_back(ref_row);
     }
     if (!ref_distance.empty()) {
       tb::Row ref_row{sname, "reference", tb::Mode::distance, 0, ps.size(), 0, 0, 0, 0, {}, {}};
@@ -282,7 +305,9 @@ class Run {
       rows.push_back(ref_row);
     }
     // The reference itself, for the hit and pair counts every engine is compared to.
-    if (!ref_pairs.empty() && (sel_.modes.size() > 1 || sel_.modes[0] != tb::Mode::distance)) {
+    if (std::count(sel_.modes.begin(), sel_.modes.end(), tb::Mode::first_hit) +
+            std::count(sel_.modes.begin(), sel_.modes.end(), tb::Mode::all_pairs) >
+        0) {
       tb::Row ref_row{sname, "reference", tb::Mode::all_pairs, 0, ps.size(), 0, 0, 0, 0, {}, {}};
       for (const auto& p : ref_pairs) {
         ref_row.hits += p.empty() ? 0 : 1;
@@ -329,8 +354,9 @@ int main(int argc, char** argv) {
     auto engines = all_engines();
     if (o.list) {
       for (const auto& e : engines)
-        std::printf("%-18s first_hit:%-3s all_pairs:%-3s distance:%-3s %s\n", e.name.c_str(),
-                    e.first_hit ? "yes" : "no", e.all_pairs ? "yes" : "no", e.distance ? "yes" : "no", e.note.c_str());
+        std::printf("%-18s first_hit:%-3s all_pairs:%-3s distance:%-3s margin:%-3s %s\n", e.name.c_str(),
+                    e.first_hit ? "yes" : "no", e.all_pairs ? "yes" : "no", e.distance ? "yes" : "no",
+                    e.margin ? "yes" : "no", e.note.c_str());
       return 0;
     }
     const std::optional<Selection> sel = parse_selection(o, std::move(engines));

@@ -34,4 +34,7 @@ if grep -E '^(tightbvh|fcl)' file.txt | grep -q MISMATCH; then cat file.txt; fai
   > distance.txt
 [ "$(grep -cE '^(tightbvh-pca|fcl-obbrss|fcl-rss) +distance' distance.txt)" = 6 ] || { cat distance.txt; fail "distance rows"; }
 if grep -E '^(tightbvh|fcl)' distance.txt | grep -q MISMATCH; then cat distance.txt; fail "distance mismatch"; fi
+# Margin mode: our pair sets equal the reference's exactly.
+"$bench" --modes margin --scenario near --poses 3 --engines tightbvh-pca --repetitions 1 > margin.txt
+grep -qE '^tightbvh-pca +margin .* ok$' margin.txt || { cat margin.txt; fail "margin"; }
 echo "test-bench: ok"

@@ -99,7 +99,7 @@ void print_verdict(std::ostream& out, const std::vector<Row>& rows) {
     for (const Row& a : rows) {
       if (a.mode != Mode::all_pairs || a.engine != m.engine || a.scenario != m.scenario || a.qps() <= 0) continue;
       const double cost = a.qps() / m.qps();
-      if (!margin_header) out << "\nmargin (1% of the larger AABB diagonal) vs all_pairs (margin 0), same engine and poses:\n";
+      if (!margin_header) out << "\nmargin (1% of the larger diagonal) vs all_pairs (margin 0), same engine and poses:\n";
       margin_header = true;
       std::snprintf(line, sizeof line, "  %-10s margin    %-16s costs %5.2fx its all_pairs (%zu vs %zu pairs)  %s\n",
                     m.scenario.c_str(), m.engine.c_str(), cost, m.pairs, a.pairs,

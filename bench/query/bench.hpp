@@ -207,6 +207,7 @@ class Reference {
   [[nodiscard]] bool collides(const Pose& b_in_a) const;
   [[nodiscard]] std::vector<Pair> pairs(const Pose& b_in_a) const;  // sorted
   [[nodiscard]] double distance(const Pose& b_in_a) const;
+  [[nodiscard]] double brute_force_distance(const Pose& b_in_a) const;  // every triangle pair
   [[nodiscard]] std::vector<Pair> margin_pairs(const Pose& b_in_a) const;  // sorted
   [[nodiscard]] std::string description() const;
 

@@ -128,6 +128,10 @@ double Reference::distance(const Pose& p) const {
                             .distance;
 }
 
+double Reference::brute_force_distance(const Pose& p) const {
+  return distance_brute_force(impl_->in.a, Pose::identity(), impl_->in.b, p).distance;
+}
+
 std::vector<Pair> Reference::margin_pairs(const Pose& p) const {
   const QueryOptions options{.mode = QueryMode::all_pairs, .margin = kMarginOfScale * impl_->in.scale};
   const QueryResult r = impl_->brute ? collide_brute_force(impl_->in.a, Pose::identity(), impl_->in.b, p, options)

@@ -66,7 +66,7 @@ struct Options {
   std::string mesh_a = default_mesh("elephant.off"), mesh_b = default_mesh("knot1.off");
   std::string engines_arg = "all", scenario_arg = "all", modes_arg = "first_hit,all_pairs";
   std::string poses_file, write_poses_file, json_file, csv_file, report_dir;
-  int poses = 100, repetitions = 5;
+  int poses = 100, repetitions = 5, brute_check = 0;
   std::uint64_t seed = 1;
   double budget = 1.0;
   bool list = false;
@@ -97,6 +97,9 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--csv", o.csv_file, "write results as CSV");
   app.add_option("--report", o.report_dir, "write an HTML report (index.html) into this folder");
   app.add_flag("--list-engines", o.list, "list the engines and what they support");
+  app.add_option("--brute-check", o.brute_check,
+                 "distance mode: also check the reference against brute force on the first N poses per scenario")
+      ->capture_default_str();
 }
 
 // What to run: engines, modes, scenarios (nullopt = poses from the file).
@@ -204,6 +207,7 @@ class Run {
       if (want_margin) ref_margin[i] = reference_.margin_pairs(ps[i]);
       progress_.show(sname + ": reference", double(i + 1) / ps.size());
     }
+    if (want_distance) brute_check(sname, ps, ref_distance);
     std::vector<Job> jobs = prepare(sname, ps);
     time_passes(sname, ps, jobs);
     add_rows(sname, ps, jobs, ref_pairs, ref_distance, ref_margin);
@@ -214,6 +218,24 @@ class Run {
   std::vector<Pose> written;
 
  private:
+  // The distance reference against every triangle pair on the first --brute-check poses.
+  void brute_check(const std::string& sname, const std::vector<Pose>& ps, const std::vector<double>& ref) {
+    const std::size_t n = std::min<std::size_t>(std::max(o_.brute_check, 0), ps.size());
+    if (n == 0) return;
+    int differ = 0;
+    double largest = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      progress_.show(sname + ": brute force", double(i + 1) / n);
+      const double error = std::abs(reference_.brute_force_distance(ps[i]) - ref[i]);
+      largest = std::max(largest, error);
+      if (!(error <= 1e-9 * ref[i] + 1e-12 * input_.scale)) ++differ;
+    }
+    char text[160];
+    std::snprintf(text, sizeof text, "distance reference vs brute force on %zu poses: %d differ (largest difference %.3g)",
+                  n, differ, largest);
+    info_.notes.push_back(sname + ": " + text);
+  }
+
   // Build (once per engine), then the checked warm-up pass of every engine and mode.
   std::vector<Job> prepare(const std::string& sname, const std::vector<Pose>& ps) {
     std::vector<Job> jobs;

@@ -231,8 +231,9 @@ class Run {
       if (!(error <= 1e-9 * ref[i] + 1e-12 * input_.scale)) ++differ;
     }
     char text[160];
-    std::snprintf(text, sizeof text, "distance reference vs brute force on %zu poses: %d differ (largest difference %.3g)",
-                  n, differ, largest);
+    std::snprintf(text, sizeof text,
+                  "distance reference vs brute force on %zu poses: %d differ (largest difference %.3g)", n, differ,
+                  largest);
     info_.notes.push_back(sname + ": " + text);
   }
 

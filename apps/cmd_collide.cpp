@@ -1,8 +1,10 @@
 // tightbvh collide MESH_A MESH_B --pose "r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz"
-//   [--all-pairs] [--margin D] [--fitter F] [--json]: builds both trees and runs one query with A at the
-// identity and B at the given pose (B's transform in A's frame, rotation row-major).
+//   [--all-pairs] [--margin D] [--fitter F] [--json] [--view DIR]: builds both trees and runs one
+// query with A at the identity and B at the given pose (B's transform in A's frame, rotation
+// row-major). --view writes DIR/index.html: both posed meshes with the touching triangles highlighted.
 #include <chrono>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -14,6 +16,8 @@
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
 #include "tightbvh/pose_text.hpp"
+#include "view/page.hpp"
+#include "view/scene.hpp"
 
 namespace tightbvh::cli {
 
@@ -29,6 +33,7 @@ namespace {
 
 struct Args {
   std::string mesh_a, mesh_b, pose = "1 0 0 0 1 0 0 0 1 0 0 0", fitter = to_string(BuildOptions{}.fitter);
+  std::string view;  // directory of the page, if asked
   std::uint32_t leaf_size = 1;
   unsigned threads = 0;
   double margin = 0.0;
@@ -37,6 +42,8 @@ struct Args {
 
 struct Run {
   Fitter fitter;
+  Mesh a, b;
+  Pose pose_b;
   QueryResult result;
   double build_seconds = 0.0, query_seconds = 0.0;
 };
@@ -46,8 +53,8 @@ struct Run {
   const Pose pose_b = parse_pose_option(args.pose);
   const auto fitter = parse_fitter(args.fitter);
   if (!fitter) throw InputError("unknown fitter '" + args.fitter + "'");
-  const Mesh a = load_mesh(args.mesh_a);
-  const Mesh b = load_mesh(args.mesh_b);
+  Mesh a = load_mesh(args.mesh_a);
+  Mesh b = load_mesh(args.mesh_b);
   BuildOptions build_options;
   build_options.fitter = *fitter;
   build_options.leaf_size = args.leaf_size;
@@ -59,11 +66,20 @@ struct Run {
   const auto t1 = Clock::now();
   const QueryOptions options{.mode = args.all_pairs ? QueryMode::all_pairs : QueryMode::first_hit,
                              .margin = args.margin};
-  Run run{*fitter, collide(ta, a, Pose::identity(), tb, b, pose_b, options)};
+  QueryResult result = collide(ta, a, Pose::identity(), tb, b, pose_b, options);
   const auto t2 = Clock::now();
+  Run run{*fitter, std::move(a), std::move(b), pose_b, std::move(result)};
   run.build_seconds = std::chrono::duration<double>(t1 - t0).count();
   run.query_seconds = std::chrono::duration<double>(t2 - t1).count();
   return run;
+}
+
+// The page of --view (before anything is printed: a failure is the one error line).
+void write_view(const Args& args, const Run& run) {
+  const auto name = [](const std::string& path) { return std::filesystem::path(path).filename().string(); };
+  const std::string title = name(args.mesh_a) + " (A) and " + name(args.mesh_b) + " (B): contacts, fitter " +
+                            to_string(run.fitter);
+  view::write_page(args.view, view::contacts_scene(title, {run.a, run.b, run.pose_b, run.result, args.all_pairs}));
 }
 
 void print_collide(const Args& args, const Run& run) {
@@ -71,12 +87,19 @@ void print_collide(const Args& args, const Run& run) {
   if (args.json) {
     nlohmann::json pairs = nlohmann::json::array();
     for (const TrianglePair& p : r.pairs) pairs.push_back({p.a, p.b});
-    const nlohmann::json out = {{"mesh_a", args.mesh_a},           {"mesh_b", args.mesh_b},
-                                {"fitter", to_string(run.fitter)}, {"mode", args.all_pairs ? "all_pairs" : "first_hit"},
-                                {"margin", args.margin},           {"hit", r.hit},
-                                {"pair_count", r.pairs.size()},    {"pairs", pairs},
-                                {"box_tests", r.stats.box_tests},  {"triangle_tests", r.stats.triangle_tests},
-                                {"seconds", run.query_seconds},    {"build_seconds", run.build_seconds}};
+    nlohmann::json out = {{"mesh_a", args.mesh_a},
+                          {"mesh_b", args.mesh_b},
+                          {"fitter", to_string(run.fitter)},
+                          {"mode", args.all_pairs ? "all_pairs" : "first_hit"},
+                          {"margin", args.margin},
+                          {"hit", r.hit},
+                          {"pair_count", r.pairs.size()},
+                          {"pairs", pairs},
+                          {"box_tests", r.stats.box_tests},
+                          {"triangle_tests", r.stats.triangle_tests},
+                          {"seconds", run.query_seconds},
+                          {"build_seconds", run.build_seconds}};
+    if (!args.view.empty()) out["view"] = (std::filesystem::path(args.view) / "index.html").string();
     std::cout << out.dump(2) << '\n';
     return;
   }
@@ -86,6 +109,7 @@ void print_collide(const Args& args, const Run& run) {
             << "triangle tests: " << r.stats.triangle_tests << '\n'
             << "seconds: " << run.query_seconds << " (query), " << run.build_seconds << " (build, fitter "
             << to_string(run.fitter) << ")\n";
+  if (!args.view.empty()) std::cout << "wrote " << (std::filesystem::path(args.view) / "index.html").string() << '\n';
 }
 
 }  // namespace
@@ -106,7 +130,12 @@ void add_collide_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "build threads (0: all cores)")->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON instead of text");
-  cmd->callback([args] { print_collide(*args, run_collide(*args)); });
+  cmd->add_option("--view", args->view, "write DIR/index.html: the posed meshes, touching triangles highlighted");
+  cmd->callback([args] {
+    const Run run = run_collide(*args);
+    if (!args->view.empty()) write_view(*args, run);
+    print_collide(*args, run);
+  });
 }
 
 }  // namespace tightbvh::cli

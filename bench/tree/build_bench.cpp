@@ -5,7 +5,7 @@
 //       split), our pca / approx / auto builds (threads = 1 unless --threads), median times,
 //       ratios, sums of node volumes and bytes per triangle (--no-tight: pca vs FCL only).
 //   tightbvh-build-bench --splits [MESH...]      sum of volumes per split method
-//   tightbvh-build-bench --auto-sweep [MESH...]  time and volume of auto per threshold
+//   tightbvh-build-bench --auto-sweep [MESH...]  time and volume of auto per pair of thresholds
 //   tightbvh-build-bench --scale MESH --triangles N --fitter F [--threads T]
 //       subdivides MESH 1->4 until it has >= N triangles, builds once, prints time and peak
 //       memory (getrusage; run one fitter per process to get each fitter's peak).
@@ -107,7 +107,7 @@ struct OurResult {
 OurResult our_build(const Mesh& mesh, const BuildOptions& options, int repeats) {
   OurResult r;
   if (const auto* m = std::get_if<FitMethod>(&options.fitter); m && !available(*m)) return r;
-  if (const auto* a = std::get_if<AutoFit>(&options.fitter); a && !(available(a->tight) && available(a->cheap)))
+  if (const auto* a = std::get_if<AutoFit>(&options.fitter); a && !(available(a->tight) && available(a->medium) && available(a->cheap)))
     return r;
   Tree tree;
   r.seconds = median_seconds(repeats, [&] { tree = build(mesh, options); });
@@ -156,8 +156,9 @@ int compare(const std::vector<std::filesystem::path>& meshes, int repeats, unsig
   std::printf("| mesh | triangles | FCL OBB s | FCL OBBRSS s | pca s | FCL OBB / pca | pca T%u s | FCL OBB / pca T%u | approx s |",
               all_threads, all_threads);
   std::printf(" approx / pca | auto s | "
-              "auto / pca | vol approx/pca | vol auto/pca | vol FCL-OBB/pca | B/tri ours | B/tri FCL OBB |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+              "auto / pca | vol approx/pca | vol auto/pca | gain auto/approx | vol FCL-OBB/pca | B/tri ours | "
+              "B/tri FCL OBB |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& path : meshes) {
     const Mesh mesh = load_mesh(path);
     const FclMesh input = to_fcl_input(mesh);
@@ -172,13 +173,19 @@ int compare(const std::vector<std::filesystem::path>& meshes, int repeats, unsig
       return fmt((volume ? a.stats.sum_volume : a.seconds) / b, "%.3f");
     };
     const auto secs = [](const OurResult& a) { return a.ok ? fmt(a.seconds, "%.4f") : std::string("n/a"); };
-    std::printf("| %s | %zu | %.4f | %.4f | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %.3f | %.1f | %.1f |\n",
+    // The measure of tightness: gain(f) = 1 - sum vol(f tree) / sum vol(pca tree).
+    const std::string gain_ratio =
+        approx.ok && automatic.ok
+            ? fmt((1 - automatic.stats.sum_volume / pca.stats.sum_volume) / (1 - approx.stats.sum_volume / pca.stats.sum_volume),
+                  "%.3f")
+            : std::string("n/a");
+    std::printf("| %s | %zu | %.4f | %.4f | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %.3f | %.1f | %.1f |\n",
                 name_of(path).c_str(), mesh.triangles.size(), obb.seconds, obbrss.seconds, secs(pca).c_str(),
                 fmt(obb.seconds / pca.seconds, "%.2f").c_str(), secs(pca_all).c_str(),
                 fmt(obb.seconds / pca_all.seconds, "%.2f").c_str(), secs(approx).c_str(),
                 ratio(approx, pca.seconds, false).c_str(), secs(automatic).c_str(),
                 ratio(automatic, pca.seconds, false).c_str(), ratio(approx, pca.stats.sum_volume, true).c_str(),
-                ratio(automatic, pca.stats.sum_volume, true).c_str(), obb.sum_volume / pca.stats.sum_volume,
+                ratio(automatic, pca.stats.sum_volume, true).c_str(), gain_ratio.c_str(), obb.sum_volume / pca.stats.sum_volume,
                 pca.stats.bytes_per_triangle, static_cast<double>(obb.bytes) / mesh.triangles.size());
     std::fflush(stdout);
     const auto ours = [](const OurResult& r) -> nlohmann::json {
@@ -228,25 +235,24 @@ int splits(const std::vector<std::filesystem::path>& meshes, unsigned threads) {
 // ------------------------------------------------------------------ auto threshold
 
 int auto_sweep(const std::vector<std::filesystem::path>& meshes, unsigned threads, int repeats) {
-  std::printf("auto = approx on nodes with >= T triangles, pca below; time and sum volume relative to pca\n");
-  std::printf("| mesh | T | seconds | time / pca | volume / pca | volume / approx |\n|---|---|---|---|---|---|\n");
+  std::printf("auto = approx on nodes with >= T triangles, approx-kernel on nodes with >= M, pca below, the AABB\n"
+              "where smaller; time relative to pca, gain = 1 - sum vol / sum vol(pca), relative to approx's gain\n");
+  std::printf("| mesh | T | M | seconds | time / pca | volume / pca | gain / approx's |\n|---|---|---|---|---|---|---|\n");
   for (const auto& path : meshes) {
     const Mesh mesh = load_mesh(path);
     const OurResult pca = our_build(mesh, options_for(FitMethod::pca, threads), repeats);
-    const OurResult approx = our_build(mesh, options_for(FitMethod::approx, threads), repeats);
-    if (!approx.ok) {
-      std::printf("| %s | approx not available | | | | |\n", name_of(path).c_str());
-      continue;
-    }
-    for (const bool or_aabb : {false, true})
-    for (const std::uint32_t t : {2u, 64u, 256u, 512u, 1024u, 4096u, 1u << 30}) {
-      const OurResult r =
-          our_build(mesh, options_for(AutoFit{.tight_min_triangles = t, .or_aabb = or_aabb}, threads), repeats);
-      std::printf("| %s | %u%s | %.4f | %.2f | %.4f | %.4f |\n", name_of(path).c_str(), t, or_aabb ? " +aabb" : "",
-                  r.seconds, r.seconds / pca.seconds, r.stats.sum_volume / pca.stats.sum_volume,
-                  r.stats.sum_volume / approx.stats.sum_volume);
-      std::fflush(stdout);
-    }
+    const OurResult approx = our_build(mesh, options_for(FitMethod::approx, threads), 1);
+    const double approx_gain = 1 - approx.stats.sum_volume / pca.stats.sum_volume;
+    for (const std::uint32_t t : {512u, 2048u, 8192u, 1u << 30})
+      for (const std::uint32_t m : {16u, 32u, 64u, 1u << 30}) {
+        if (m > t) continue;
+        const AutoFit policy{.tight_min_triangles = t, .medium_min_triangles = m};
+        const OurResult r = our_build(mesh, options_for(policy, threads), repeats);
+        const double volume = r.stats.sum_volume / pca.stats.sum_volume;
+        std::printf("| %s | %u | %u | %.4f | %.2f | %.4f | %.3f |\n", name_of(path).c_str(), t, m, r.seconds,
+                    r.seconds / pca.seconds, volume, (1 - volume) / approx_gain);
+        std::fflush(stdout);
+      }
   }
   return 0;
 }

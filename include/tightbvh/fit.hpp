@@ -19,6 +19,7 @@ enum class FitMethod {
   approx_snap,  // ApproxMinVolBbx (Section 6.3)
   exact,        // minimum-volume box (O'Rourke's theorem)
   eberly2015,   // Eberly 2015: face-flush and orthogonal-edge-triple boxes (misses some minima)
+  approx_kernel,  // approx's grid scan on an extreme-point kernel of the set (O(n), see fit.cpp)
 };
 
 struct FitOptions {
@@ -31,7 +32,7 @@ struct FitOptions {
 // The one table of method names (fit.cpp): parsing, printing, listing and help texts use it.
 [[nodiscard]] std::optional<FitMethod> parse_fit_method(std::string_view name);
 [[nodiscard]] std::string_view to_string(FitMethod method);
-// Every method, in declaration order ("aabb", "pca", "pca-vertex", ..., "exact", "eberly2015").
+// Every method, in declaration order ("aabb", "pca", "pca-vertex", ..., "eberly2015", "approx-kernel").
 [[nodiscard]] std::span<const FitMethod> all_fit_methods();
 [[nodiscard]] std::span<const std::string_view> fit_method_names();  // same order
 
@@ -70,5 +71,11 @@ class FitWorkspace {
 [[nodiscard]] Obb fit_triangles(std::span<const Vec3> corners, const FitOptions& options);
 [[nodiscard]] Obb fit_triangles(std::span<const Vec3> corners, const FitOptions& options,
                                 FitWorkspace& workspace);
+// The same, given also `vertices`: the distinct points among the corners (e.g. the mesh vertices
+// the triangles use; the caller guarantees they are the same point set). The hull, the kernel and
+// the extents are computed from `vertices`, the triangle covariance of pca from `corners`: on a
+// mesh every vertex is a corner of about six triangles, so hull-based fitters get ~6x fewer points.
+[[nodiscard]] Obb fit_triangles(std::span<const Vec3> corners, std::span<const Vec3> vertices,
+                                const FitOptions& options, FitWorkspace& workspace);
 
 }  // namespace tightbvh

@@ -101,23 +101,29 @@ AxisBox refine_direction(const HullGeometry& g, AxisBox box, const VolumeBound& 
 
 }  // namespace
 
-AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool improve_step, BoptScratch& scratch) {
+namespace {
+
+// The kStarts smallest boxes of the grid scan, smallest first (B*(S) itself when nothing beats it).
+constexpr int kStarts = 4;
+struct TopBoxes {
+  std::array<AxisBox, kStarts> box;
+  std::array<double, kStarts> volume;
+  std::array<bool, kStarts> from_bopt{};  // false for B*(S) itself (not a Bopt box)
+};
+
+// Bopt(S, {v}) for the primitive directions v of Grid(B*(S)) with L-inf norm <= k, in increasing
+// order of their volume bound (the best boxes come early, and once a bound reaches the kept-th
+// best volume so do all later ones); keeps the `kept` (<= kStarts) smallest boxes.
+TopBoxes scan_grid(const HullGeometry& g, const AxisBox& bstar, const VolumeBound& bound, int k, int kept,
+                   BoptScratch& scratch) {
   // Grid(B*(S)) is spanned by the box's edge vectors b_j = extent_j * axis_j.
   const Vec3 extent = bstar.hi - bstar.lo;
   Mat3 basis;
   for (int j = 0; j < 3; ++j) basis.col(j) = extent[j] * bstar.axes.col(j);
-  // Keep the few best boxes: the local improvement is run from each of them (it converges to
-  // local minima, Section 6.5, so a second or third start often lands in a better one).
-  constexpr int kStarts = 4;
-  std::array<AxisBox, kStarts> top;
-  std::array<double, kStarts> top_volume;
-  std::array<bool, kStarts> top_bopt{};  // false for B*(S) itself (not a Bopt box)
-  top.fill(bstar);
-  top_volume.fill(std::numeric_limits<double>::infinity());
-  top_volume[0] = bstar.volume();
-  const VolumeBound bound(g, bstar);
-  // Directions in increasing order of their bound: the best boxes come early, and once a bound
-  // reaches the fourth-best volume so do all later ones.
+  TopBoxes top;
+  top.box.fill(bstar);
+  top.volume.fill(std::numeric_limits<double>::infinity());
+  top.volume[0] = bstar.volume();
   const auto& grid = primitive_grid(k);
   auto& order = scratch.grid_order;
   order.clear();
@@ -127,32 +133,48 @@ AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool imp
   }
   std::sort(order.begin(), order.end());
   for (const auto& [lower, i] : order) {
-    if (lower * (1.0 - 1e-9) >= top_volume[kStarts - 1]) break;
+    if (lower * (1.0 - 1e-9) >= top.volume[kept - 1]) break;
     const Vec3 v = basis * Vec3(grid[i][0], grid[i][1], grid[i][2]);
     const AxisBox box = bopt(g, v, scratch);
-    double volume = box.volume();
-    if (!(volume < top_volume[kStarts - 1])) continue;
+    const double volume = box.volume();
+    if (!(volume < top.volume[kept - 1])) continue;
     // Insert into the sorted list of the best boxes.
-    int at = kStarts - 1;
-    while (at > 0 && volume < top_volume[at - 1]) {
-      top_volume[at] = top_volume[at - 1];
-      top[at] = top[at - 1];
-      top_bopt[at] = top_bopt[at - 1];
+    int at = kept - 1;
+    while (at > 0 && volume < top.volume[at - 1]) {
+      top.volume[at] = top.volume[at - 1];
+      top.box[at] = top.box[at - 1];
+      top.from_bopt[at] = top.from_bopt[at - 1];
       --at;
     }
-    top_volume[at] = volume;
-    top[at] = box;
-    top_bopt[at] = true;
+    top.volume[at] = volume;
+    top.box[at] = box;
+    top.from_bopt[at] = true;
   }
-  if (!improve_step) return top[0];
-  AxisBox best = top[0];
-  double best_volume = top_volume[0];
+  return top;
+}
+
+}  // namespace
+
+AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool improve_step, BoptScratch& scratch) {
+  // Keep the few best boxes: the local improvement is run from each of them (it converges to
+  // local minima, Section 6.5, so a second or third start often lands in a better one).
+  const VolumeBound bound(g, bstar);
+  const TopBoxes top = scan_grid(g, bstar, bound, k, kStarts, scratch);
+  if (!improve_step) return top.box[0];
+  AxisBox best = top.box[0];
+  double best_volume = top.volume[0];
   for (int i = 0; i < kStarts; ++i) {
-    if (!(top_volume[i] < std::numeric_limits<double>::infinity())) break;
-    const AxisBox improved = improve(g, top[i], scratch, 1e-6, 16, top_bopt[i]);
+    if (!(top.volume[i] < std::numeric_limits<double>::infinity())) break;
+    const AxisBox improved = improve(g, top.box[i], scratch, 1e-6, 16, top.from_bopt[i]);
     if (improved.volume() < best_volume) best_volume = improved.volume(), best = improved;
   }
   return refine_direction(g, best, bound, scratch);
+}
+
+AxisBox quick_grid_search(const HullGeometry& g, const AxisBox& bstar, int k, BoptScratch& scratch) {
+  const VolumeBound bound(g, bstar);
+  const TopBoxes top = scan_grid(g, bstar, bound, k, 1, scratch);
+  return improve(g, top.box[0], scratch, 1e-3, 4, top.from_bopt[0]);
 }
 
 }  // namespace tightbvh::fit_detail

@@ -63,6 +63,13 @@ using Index = std::uint32_t;
   return box;
 }
 
+// Whether the fitter may run `method` on some node.
+[[nodiscard]] bool uses(const Fitter& fitter, FitMethod method) {
+  if (const auto* m = std::get_if<FitMethod>(&fitter)) return *m == method;
+  const AutoFit& a = std::get<AutoFit>(fitter);
+  return a.tight == method || a.medium == method || a.cheap == method;
+}
+
 // Range of triangle_order owned by a node being built.
 struct Pending {
   Index node;
@@ -75,12 +82,16 @@ struct Scratch {
   std::vector<Pending> stack;
   FitWorkspace fit;  // hulls, projections, ... of the fitters
   detail::SplitScratch split;
+  // The node's distinct vertices, found with a stamp per mesh vertex (no sorting, no hashing).
+  std::vector<std::uint32_t> vertex_stamp;
+  std::uint32_t stamp_epoch = 0;
+  std::vector<Vec3> vertices;
 };
 
 class Builder {
  public:
   Builder(const Mesh& mesh, const BuildOptions& options, std::vector<Index>& order)
-      : options_(options), order_(order), corners_(triangle_corners(mesh)) {}
+      : mesh_(mesh), options_(options), order_(order), corners_(triangle_corners(mesh)) {}
 
   // Fits the node's box; returns the split point (begin < mid < end), or `end` for a leaf.
   Index process(Node& node, Index begin, Index end, Scratch& scratch) {
@@ -123,7 +134,25 @@ class Builder {
   [[nodiscard]] FitMethod method_for(Index count) const {
     if (const auto* method = std::get_if<FitMethod>(&options_.fitter)) return *method;
     const AutoFit& a = std::get<AutoFit>(options_.fitter);
-    return count >= a.tight_min_triangles ? a.tight : a.cheap;
+    if (count >= a.tight_min_triangles) return a.tight;
+    return count >= a.medium_min_triangles ? a.medium : a.cheap;
+  }
+
+  // The distinct mesh vertices of the node's triangles (positions [begin, end) of order_).
+  std::span<const Vec3> node_vertices(Index begin, Index end, Scratch& scratch) const {
+    auto& stamp = scratch.vertex_stamp;
+    if (stamp.size() != mesh_.vertices.size() || ++scratch.stamp_epoch == 0) {
+      stamp.assign(mesh_.vertices.size(), 0);
+      scratch.stamp_epoch = 1;
+    }
+    scratch.vertices.clear();
+    for (Index p = begin; p < end; ++p)
+      for (const std::uint32_t v : mesh_.triangles[order_[p]])
+        if (stamp[v] != scratch.stamp_epoch) {
+          stamp[v] = scratch.stamp_epoch;
+          scratch.vertices.push_back(mesh_.vertices[v]);
+        }
+    return scratch.vertices;
   }
 
   [[nodiscard]] Obb fit(Index begin, Index end, Scratch& scratch) const {
@@ -137,7 +166,10 @@ class Builder {
     }
     FitOptions fit = options_.fit;
     fit.method = method;
-    Obb box = fit_triangles(corners, fit, scratch.fit);
+    // pca needs only the corners; the hull-based fitters work on the distinct vertices.
+    Obb box = method == FitMethod::pca || method == FitMethod::pca_vertex
+                  ? fit_triangles(corners, fit, scratch.fit)
+                  : fit_triangles(corners, node_vertices(begin, end, scratch), fit, scratch.fit);
     if (const auto* a = std::get_if<AutoFit>(&options_.fitter); a && a->or_aabb && method != FitMethod::aabb) {
       // The axis-aligned box costs one pass and is often the smaller one (axis-aligned CAD
       // parts, nodes with a near-isotropic covariance where the PCA axes are arbitrary).
@@ -147,6 +179,7 @@ class Builder {
     return box;
   }
 
+  const Mesh& mesh_;
   const BuildOptions& options_;
   // Position-indexed, permuted in lockstep by the splits: position p holds triangle order_[p]
   // with corners corners_[3p..3p+3). Each node (and each task) touches only its own range.
@@ -251,6 +284,10 @@ Tree build(const Mesh& mesh, const BuildOptions& options) {
   if (mesh.triangles.size() >= std::numeric_limits<Index>::max())
     throw InputError("build: more than 2^32 - 2 triangles");
   if (options.leaf_size == 0) throw InputError("build: leaf_size must be at least 1");
+  if (uses(options.fitter, FitMethod::approx_snap) && mesh.triangles.size() > kMaxApproxSnapTriangles)
+    throw InputError("build: approx-snap is limited to " + std::to_string(kMaxApproxSnapTriangles) +
+                     " triangles (an exact box per node: it would take hours on " +
+                     std::to_string(mesh.triangles.size()) + "); use approx");
   const auto n = static_cast<Index>(mesh.triangles.size());
 
   Tree tree;

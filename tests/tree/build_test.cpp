@@ -1,4 +1,5 @@
 #include "tightbvh/build.hpp"
+#include "tightbvh/tree_walk.hpp"
 
 #include <gtest/gtest.h>
 
@@ -274,6 +275,36 @@ TEST(BuildOptionsTest, AutoUsesTightFitterAboveThreshold) {
   for (const Node& node : tree.nodes)
     if (!node.box.axes.isIdentity()) ++rotated;
   EXPECT_GT(rotated, tree.nodes.size() / 2);  // most nodes are small: pca
+}
+
+TEST(BuildOptionsTest, ApproxSnapIsRefusedAboveItsLimit) {
+  Mesh mesh = load_relative("meshes/knot1.off");
+  mesh = subdivide_midpoints(mesh);  // 25,600 triangles
+  ASSERT_GT(mesh.triangles.size(), kMaxApproxSnapTriangles);
+  try {
+    (void)build(mesh, with(FitMethod::approx_snap));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("approx-snap is limited to 20000 triangles"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW((void)build(mesh, with(AutoFit{.cheap = FitMethod::approx_snap})), InputError);
+}
+
+TEST(BuildOptionsTest, AutoUsesTheMediumFitterBetweenTheThresholds) {
+  // tight = cheap = pca and medium = aabb: exactly the nodes of [100, 1000) triangles are axis-aligned.
+  const Mesh mesh = load_relative("meshes/elephant.off");
+  const AutoFit policy{.tight_min_triangles = 1000, .tight = FitMethod::pca, .medium_min_triangles = 100,
+                       .medium = FitMethod::aabb, .cheap = FitMethod::pca, .or_aabb = false};
+  const Tree tree = build(mesh, with(policy));
+  ASSERT_TRUE(validate(tree, mesh).ok());
+  const std::vector<TriangleRange> ranges = triangle_ranges(tree);
+  std::size_t medium = 0;
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+    const bool in_medium = ranges[i].size() >= 100 && ranges[i].size() < 1000;
+    medium += in_medium;
+    if (in_medium || ranges[i].size() > 1) EXPECT_EQ(tree.nodes[i].box.axes.isIdentity(), in_medium) << "node " << i;
+  }
+  EXPECT_GT(medium, 4u);
 }
 
 // ------------------------------------------------------------------ validate finds problems

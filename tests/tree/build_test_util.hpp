@@ -15,7 +15,7 @@ namespace tightbvh::test {
 
 inline constexpr FitMethod kAllMethods[] = {FitMethod::aabb,   FitMethod::pca,         FitMethod::pca_vertex,
                                             FitMethod::diameter, FitMethod::approx, FitMethod::approx_snap,
-                                            FitMethod::exact,  FitMethod::eberly2015};
+                                            FitMethod::exact,  FitMethod::eberly2015, FitMethod::approx_kernel};
 
 // The fitters land one by one (fit branch): a method is available when it fits a tetrahedron.
 inline bool available(FitMethod method) {
@@ -33,7 +33,7 @@ inline bool available(FitMethod method) {
 inline bool available(const Fitter& fitter) {
   if (const auto* m = std::get_if<FitMethod>(&fitter)) return available(*m);
   const auto& a = std::get<AutoFit>(fitter);
-  return available(a.tight) && available(a.cheap);
+  return available(a.tight) && available(a.medium) && available(a.cheap);
 }
 
 // Every fitter the builder accepts: each FitMethod, then auto.
@@ -66,7 +66,7 @@ inline std::size_t triangle_budget(const Fitter& fitter) {
         return 400;  // diameter, approx: hull + grid search at every node
     }
   }
-  return 1500;  // auto: approx above 512 triangles
+  return 1500;  // auto: approx-kernel above 32 triangles, approx above 2048
 }
 
 inline bool is_cheap(const Fitter& fitter) { return triangle_budget(fitter) > 1500; }

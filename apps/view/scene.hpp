@@ -1,0 +1,50 @@
+#pragma once
+// The data of a view page as JSON for its script (page.html): meshes, boxes per tree level,
+// volumes, contacts. Coordinates go out rounded to 1e-5 of the power of ten of the scene's size
+// (axes to 1e-5): enough to draw, and half the text of full doubles.
+#include <cstddef>
+#include <nlohmann/json.hpp>
+#include <span>
+#include <string>
+
+#include "tightbvh/build.hpp"
+#include "tightbvh/collide.hpp"
+#include "view/decimate.hpp"
+
+namespace tightbvh::view {
+
+// Beyond this many boxes in the levels up to the selected one, deeper levels are left out of the
+// page (their volumes are still listed).
+inline constexpr std::size_t kMaxDrawnBoxes = 8'000;
+
+// {"triangles", "drawn_triangles", "decimated", "max_drawn_triangles", "positions" (x y z per
+// vertex, after `pose`), "indices" (3 per drawn triangle)}.
+[[nodiscard]] nlohmann::json mesh_json(const Mesh& mesh, const Pose& pose = {},
+                                       std::size_t max_triangles = kMaxDrawnTriangles);
+
+// 15 numbers: center, the three axes (columns of Obb::axes), half extents (rounded as above, to
+// the box's own size).
+[[nodiscard]] nlohmann::json box_json(const Obb& box);
+
+// One fitter's tree: {"fitter", "seconds", "sum_volume", "volume_per_level", "boxes_per_level",
+// "levels": the boxes of the levels 0..k (box_json, concatenated per level)}, where k is the
+// deepest level with at most `max_boxes` boxes in levels 0..k, or `level` if deeper.
+[[nodiscard]] nlohmann::json tree_json(const std::string& fitter, const BuildResult& built, std::size_t level,
+                                       std::size_t max_boxes = kMaxDrawnBoxes);
+
+// The scene of `tightbvh view`: {"kind": "trees", "title", "mesh", "level", "trees": [tree_json]}.
+[[nodiscard]] nlohmann::json trees_scene(const std::string& title, const Mesh& mesh, std::size_t level,
+                                         nlohmann::json trees);
+
+// The scene of `tightbvh collide --view`: {"kind": "contacts", "title", "meshes": [A, B] (B posed
+// into A's frame), "contacts": [corners of A's touching triangles, of B's], "result": {...}}.
+struct ContactInput {
+  const Mesh& a;
+  const Mesh& b;
+  const Pose& pose_b;  // B in A's frame
+  const QueryResult& result;
+  bool all_pairs = false;
+};
+[[nodiscard]] nlohmann::json contacts_scene(const std::string& title, const ContactInput& input);
+
+}  // namespace tightbvh::view

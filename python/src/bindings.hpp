@@ -1,0 +1,35 @@
+#pragma once
+// The pieces of the Python module `tightbvh._tightbvh` (module.cpp puts them together), and the
+// Tree as Python sees it: the library's Tree plus the mesh it belongs to, held so that a Tree
+// never outlives its mesh.
+#include <pybind11/pybind11.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "tightbvh/build.hpp"
+#include "tightbvh/mesh.hpp"
+#include "tightbvh/tree.hpp"
+
+namespace tightbvh::python {
+
+namespace py = pybind11;
+
+struct PyTree {
+  Tree tree;
+  std::shared_ptr<const Mesh> mesh;       // null for a tree loaded without one
+  std::optional<BuildStats> build_stats;  // built trees only
+  std::optional<std::string> fitter;      // built trees only
+};
+
+// The mesh to use for `tree`: `mesh` converted (to_mesh), or the tree's own mesh when `mesh` is
+// None. Throws TypeError naming `name` when neither exists.
+[[nodiscard]] std::shared_ptr<const Mesh> mesh_for(const PyTree& tree, py::handle mesh, const std::string& name);
+
+void bind_mesh(py::module_& m);
+void bind_fit(py::module_& m);
+void bind_tree(py::module_& m);
+void bind_collide(py::module_& m);
+
+}  // namespace tightbvh::python

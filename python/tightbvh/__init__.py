@@ -1,0 +1,54 @@
+"""tightbvh: bounding-volume hierarchies of tight oriented boxes over triangle meshes.
+
+NumPy arrays in and out. A mesh argument is a tightbvh.Mesh or any object with .vertices (N, 3)
+and .faces (M, 3) arrays (a trimesh.Trimesh); a pose is a 4x4 matrix, a (R, t) pair or None.
+Bad input raises ValueError or TypeError naming the argument.
+
+    import tightbvh
+    a = tightbvh.load_mesh("meshes/elephant.off")
+    tree_a = tightbvh.build(a, fitter="approx")
+    box = tightbvh.fit(a.vertices, method="exact")
+    result = tightbvh.collide(tree_a, a, None, tree_b, b, pose_b, all_pairs=True)
+"""
+from ._tightbvh import (
+    Ball,
+    Box,
+    Dop,
+    Ellipsoid,
+    Mesh,
+    Result,
+    Tree,
+    TreeCheck,
+    __version__,
+    as_mesh,
+    build,
+    collide,
+    collide_batch,
+    collide_brute_force,
+    fit,
+    fit_methods,
+    fitter_names,
+    load_mesh,
+    split_names,
+)
+
+__all__ = [
+    "Ball",
+    "Box",
+    "Dop",
+    "Ellipsoid",
+    "Mesh",
+    "Result",
+    "Tree",
+    "TreeCheck",
+    "as_mesh",
+    "build",
+    "collide",
+    "collide_batch",
+    "collide_brute_force",
+    "fit",
+    "fit_methods",
+    "fitter_names",
+    "load_mesh",
+    "split_names",
+]

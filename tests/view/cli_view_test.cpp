@@ -1,0 +1,95 @@
+// `tightbvh view` and `tightbvh collide --view`, run as a user would (the real binary).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "../cli_runner.hpp"
+
+namespace tightbvh {
+namespace {
+
+using test::CliRun;
+
+std::string mesh(const char* name) { return std::string(TIGHTBVH_SOURCE_DIR) + "/meshes/" + name; }
+std::filesystem::path temp(const std::string& name) {
+  return std::filesystem::temp_directory_path() / ("tightbvh_cli_view_test_" + std::to_string(::getpid()) + "_" + name);
+}
+std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+// The scene JSON inlined into a page.
+nlohmann::json scene_of(const std::string& page) {
+  const std::string open = "<script type=\"application/json\" id=\"scene\">";
+  const std::size_t begin = page.find(open) + open.size();
+  return nlohmann::json::parse(page.substr(begin, page.find("</script>", begin) - begin));
+}
+
+TEST(CliView, PageWithTwoFittersByDefault) {
+  const auto dir = temp("trees");
+  const CliRun r = test::run_cli("view " + mesh("knot1.off") + " --level 2 -o " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("index.html"), std::string::npos) << r.out;
+  const nlohmann::json scene = scene_of(slurp(dir / "index.html"));
+  EXPECT_EQ(scene["kind"], "trees");
+  EXPECT_EQ(scene["level"], 2);
+  ASSERT_EQ(scene["trees"].size(), 2u);
+  EXPECT_EQ(scene["trees"][0]["fitter"], "pca");
+  EXPECT_EQ(scene["trees"][1]["fitter"], "auto");
+  EXPECT_EQ(scene["trees"][0]["levels"][2].size(), 4u * 15u);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(CliView, ChosenFittersInOrder) {
+  const auto dir = temp("three");
+  const CliRun r =
+      test::run_cli("view --fitter aabb --fitter pca --fitter diameter " + mesh("knot1.off") + " -o " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json scene = scene_of(slurp(dir / "index.html"));
+  ASSERT_EQ(scene["trees"].size(), 3u);
+  EXPECT_EQ(scene["trees"][2]["fitter"], "diameter");
+  std::filesystem::remove_all(dir);
+}
+
+TEST(CliView, CollideViewHighlightsContacts) {
+  const auto dir = temp("contacts");
+  const CliRun r =
+      test::run_cli("collide " + mesh("knot1.off") + " " + mesh("elephant.off") +
+                    " --pose \"0 -1 0 1 0 0 0 0 1 0.1 0 0\" --fitter pca --all-pairs --json --view " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json out = nlohmann::json::parse(r.out);
+  EXPECT_EQ(out["view"], (dir / "index.html").string());
+  const nlohmann::json scene = scene_of(slurp(dir / "index.html"));
+  EXPECT_EQ(scene["kind"], "contacts");
+  EXPECT_EQ(scene["result"]["pairs"], out["pair_count"]);
+  EXPECT_GT(scene["contacts"][0].size(), 0u);
+  EXPECT_EQ(scene["contacts"][0].size() % 9, 0u);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(CliView, BadInputIsOneLineAndNonZeroExit) {
+  const auto dir = temp("bad");
+  const auto blocker = temp("blocker");
+  std::ofstream(blocker) << "a file, not a directory";
+  for (const std::string& args : {"view " + mesh("knot1.off") + " --fitter nope -o " + dir.string(),
+                                  "view " + mesh("knot1.off") + " --level 999 -o " + dir.string(),
+                                  "view " + dir.string() + "/missing.off -o " + dir.string(),
+                                  "view " + mesh("knot1.off") + " --fitter aabb -o " + (blocker / "sub").string(),
+                                  "collide " + mesh("knot1.off") + " " + mesh("knot1.off") + " --fitter aabb --view " +
+                                      (blocker / "sub").string()}) {
+    SCOPED_TRACE(args);
+    const CliRun r = test::run_cli(args);
+    EXPECT_NE(r.status, 0);
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;  // one line
+    EXPECT_NE(r.err.find("error: "), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "index.html"));
+  std::filesystem::remove(blocker);
+}
+
+}  // namespace
+}  // namespace tightbvh

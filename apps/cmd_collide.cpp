@@ -1,7 +1,7 @@
 // tightbvh collide MESH_A MESH_B --pose "r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz"
-//   [--all-pairs] [--fitter F] [--json] [--view DIR]: builds both trees and runs one query with A
-// at the identity and B at the given pose (B's transform in A's frame, rotation row-major).
-// --view writes DIR/index.html: both posed meshes with the touching triangles highlighted.
+//   [--all-pairs] [--margin D] [--fitter F] [--json] [--view DIR]: builds both trees and runs one
+// query with A at the identity and B at the given pose (B's transform in A's frame, rotation
+// row-major). --view writes DIR/index.html: both posed meshes with the touching triangles highlighted.
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -20,9 +20,7 @@
 #include "view/scene.hpp"
 
 namespace tightbvh::cli {
-namespace {
 
-// The library's parser, with the option named in its messages.
 Pose parse_pose_option(const std::string& text) {
   try {
     return parse_pose(text);
@@ -31,11 +29,14 @@ Pose parse_pose_option(const std::string& text) {
   }
 }
 
+namespace {
+
 struct Args {
   std::string mesh_a, mesh_b, pose = "1 0 0 0 1 0 0 0 1 0 0 0", fitter = to_string(BuildOptions{}.fitter);
   std::string view;  // directory of the page, if asked
   std::uint32_t leaf_size = 1;
   unsigned threads = 0;
+  double margin = 0.0;
   bool all_pairs = false, json = false;
 };
 
@@ -63,7 +64,8 @@ struct Run {
   const Tree ta = build(a, build_options);
   const Tree tb = build(b, build_options);
   const auto t1 = Clock::now();
-  const QueryOptions options{.mode = args.all_pairs ? QueryMode::all_pairs : QueryMode::first_hit};
+  const QueryOptions options{.mode = args.all_pairs ? QueryMode::all_pairs : QueryMode::first_hit,
+                             .margin = args.margin};
   QueryResult result = collide(ta, a, Pose::identity(), tb, b, pose_b, options);
   const auto t2 = Clock::now();
   Run run{*fitter, std::move(a), std::move(b), pose_b, std::move(result)};
@@ -86,16 +88,17 @@ void print_collide(const Args& args, const Run& run) {
     nlohmann::json pairs = nlohmann::json::array();
     for (const TrianglePair& p : r.pairs) pairs.push_back({p.a, p.b});
     nlohmann::json out = {{"mesh_a", args.mesh_a},
-                                {"mesh_b", args.mesh_b},
-                                {"fitter", to_string(run.fitter)},
-                                {"mode", args.all_pairs ? "all_pairs" : "first_hit"},
-                                {"hit", r.hit},
-                                {"pair_count", r.pairs.size()},
-                                {"pairs", pairs},
-                                {"box_tests", r.stats.box_tests},
-                                {"triangle_tests", r.stats.triangle_tests},
-                                {"seconds", run.query_seconds},
-                                {"build_seconds", run.build_seconds}};
+                          {"mesh_b", args.mesh_b},
+                          {"fitter", to_string(run.fitter)},
+                          {"mode", args.all_pairs ? "all_pairs" : "first_hit"},
+                          {"margin", args.margin},
+                          {"hit", r.hit},
+                          {"pair_count", r.pairs.size()},
+                          {"pairs", pairs},
+                          {"box_tests", r.stats.box_tests},
+                          {"triangle_tests", r.stats.triangle_tests},
+                          {"seconds", run.query_seconds},
+                          {"build_seconds", run.build_seconds}};
     if (!args.view.empty()) out["view"] = (std::filesystem::path(args.view) / "index.html").string();
     std::cout << out.dump(2) << '\n';
     return;
@@ -119,8 +122,12 @@ void add_collide_command(CLI::App& app) {
   cmd->add_option("--pose", args->pose, "B's pose in A's frame: \"r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz\"")
       ->capture_default_str();
   cmd->add_flag("--all-pairs", args->all_pairs, "report every touching triangle pair (default: first hit)");
+  cmd->add_option("--margin", args->margin, "report triangle pairs at distance <= D instead of touching ones")
+      ->capture_default_str();
   cmd->add_option("--fitter", args->fitter, choices(fitter_names()))->capture_default_str();
-  cmd->add_option("--leaf-size", args->leaf_size, "max triangles per leaf")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--leaf-size", args->leaf_size, "max triangles per leaf")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->add_option("--threads", args->threads, "build threads (0: all cores)")->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON instead of text");
   cmd->add_option("--view", args->view, "write DIR/index.html: the posed meshes, touching triangles highlighted");

@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   tightbvh::cli::add_fit_command(app);
   tightbvh::cli::add_build_command(app);
   tightbvh::cli::add_collide_command(app);
+  tightbvh::cli::add_distance_command(app);
   tightbvh::cli::add_view_command(app);
   try {
     app.parse(argc, argv);

@@ -22,8 +22,20 @@ namespace tightbvh::bench {
 // A touching triangle pair: (triangle of A, triangle of B), original mesh indices.
 using Pair = std::pair<std::uint32_t, std::uint32_t>;
 
-enum class Mode { first_hit, all_pairs };
-[[nodiscard]] inline const char* to_string(Mode m) { return m == Mode::first_hit ? "first_hit" : "all_pairs"; }
+// margin: all_pairs with a safety margin of 1% of Input::scale (pairs at distance <= margin).
+enum class Mode { first_hit, all_pairs, distance, margin };
+[[nodiscard]] inline const char* to_string(Mode m) {
+  switch (m) {
+    case Mode::first_hit: return "first_hit";
+    case Mode::all_pairs: return "all_pairs";
+    case Mode::distance: return "distance";
+    case Mode::margin: return "margin";
+  }
+  return "?";
+}
+// Pair-set modes: answers are pair sets compared with the reference's.
+[[nodiscard]] inline bool reports_pairs(Mode m) { return m == Mode::all_pairs || m == Mode::margin; }
+inline constexpr double kMarginOfScale = 0.01;
 
 struct Input {
   std::string name_a, name_b;
@@ -40,25 +52,50 @@ struct TimingOptions {
 struct Answers {
   std::vector<std::uint8_t> hit;          // per pose
   std::vector<std::vector<Pair>> pairs;   // per pose, sorted; empty in first_hit mode
+  std::vector<double> distance;           // per pose, distance mode only
 };
 
 // An adapter A provides:
 //   bool first_hit(const Pose& b_in_a);                       // any touching pair?
 //   void all_pairs(const Pose& b_in_a, std::vector<Pair>& out); // appends every pair found
+// and, for engines with EngineInfo::distance,
+//   double distance(const Pose& b_in_a);                      // minimum distance (0: touching)
+// and, for engines with EngineInfo::margin,
+//   void margin_pairs(const Pose& b_in_a, std::vector<Pair>& out); // pairs within the margin
 // Pose = the rigid transform applied to B's vertices in A's frame (A at identity).
 
 // The untimed pass whose answers are checked (it is also the warm-up).
+// The distance of an adapter that has one (only called for engines with EngineInfo::distance).
+template <class A>
+[[nodiscard]] double distance_of(A& adapter, const Pose& pose) {
+  if constexpr (requires { adapter.distance(pose); }) return adapter.distance(pose);
+  else return -1.0;
+}
+
+// The margin pairs of an adapter that has them (only called for engines with EngineInfo::margin).
+template <class A>
+void margin_pairs_of(A& adapter, const Pose& pose, std::vector<Pair>& out) {
+  if constexpr (requires { adapter.margin_pairs(pose, out); }) adapter.margin_pairs(pose, out);
+}
+
 template <class A>
 [[nodiscard]] Answers answer_all(A& adapter, Mode mode, std::span<const Pose> poses) {
   Answers out;
   out.hit.resize(poses.size());
-  if (mode == Mode::all_pairs) out.pairs.resize(poses.size());
+  if (reports_pairs(mode)) out.pairs.resize(poses.size());
+  if (mode == Mode::distance) out.distance.resize(poses.size());
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    if (mode == Mode::first_hit) {
+    if (mode == Mode::distance) {
+      out.distance[i] = distance_of(adapter, poses[i]);
+      out.hit[i] = out.distance[i] == 0.0 ? 1 : 0;
+    } else if (mode == Mode::first_hit) {
       out.hit[i] = adapter.first_hit(poses[i]) ? 1 : 0;
     } else {
       auto& pairs = out.pairs[i];
-      adapter.all_pairs(poses[i], pairs);
+      if (mode == Mode::margin)
+        margin_pairs_of(adapter, poses[i], pairs);
+      else
+        adapter.all_pairs(poses[i], pairs);
       std::sort(pairs.begin(), pairs.end());
       pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
       out.hit[i] = pairs.empty() ? 0 : 1;
@@ -77,12 +114,17 @@ template <class A>
   std::size_t sink = 0;  // keeps the optimiser from dropping the queries
   const double t0 = thread_seconds();
   for (int k = 0; k < inner; ++k) {
-    if (mode == Mode::first_hit) {
+    if (mode == Mode::distance) {
+      for (const Pose& p : poses) sink += distance_of(adapter, p) > 0.0 ? 1 : 0;
+    } else if (mode == Mode::first_hit) {
       for (const Pose& p : poses) sink += adapter.first_hit(p) ? 1 : 0;
     } else {
       for (const Pose& p : poses) {
         scratch.clear();
-        adapter.all_pairs(p, scratch);
+        if (mode == Mode::margin)
+          margin_pairs_of(adapter, p, scratch);
+        else
+          adapter.all_pairs(p, scratch);
         sink += scratch.size();
       }
     }
@@ -147,6 +189,8 @@ struct EngineInfo {
   bool all_pairs = true;   // reports triangle pairs
   std::string note;        // what the engine cannot do, shown in the README/report
   std::function<std::unique_ptr<Prepared>(const Input&)> build;
+  bool distance = false;   // answers minimum-distance queries
+  bool margin = false;     // reports the pairs within a safety margin
 };
 
 // Engine registries, one per translation unit.
@@ -162,6 +206,9 @@ class Reference {
   ~Reference();
   [[nodiscard]] bool collides(const Pose& b_in_a) const;
   [[nodiscard]] std::vector<Pair> pairs(const Pose& b_in_a) const;  // sorted
+  [[nodiscard]] double distance(const Pose& b_in_a) const;
+  [[nodiscard]] double brute_force_distance(const Pose& b_in_a) const;  // every triangle pair
+  [[nodiscard]] std::vector<Pair> margin_pairs(const Pose& b_in_a) const;  // sorted
   [[nodiscard]] std::string description() const;
 
  private:

@@ -1,6 +1,7 @@
 #include "check.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 
 #include <fcl/narrowphase/detail/primitive_shape_algorithm/triangle_distance.h>
@@ -47,6 +48,35 @@ bool separable_within(const PlacedPair& p, double tol) {
 
 double triangle_distance(const Input& in, const Pose& pose, Pair pair) {
   return distance(placed(in, pose, pair), Vec3::Zero());
+}
+
+Agreement compare_distances(const Answers& got, const std::vector<double>& reference, double scale) {
+  Agreement a;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    const double error = std::abs(got.distance[i] - reference[i]);
+    a.max_distance_error = std::max(a.max_distance_error, error);
+    if (!(error <= 1e-9 * reference[i] + 1e-12 * scale)) ++a.distances;
+  }
+  return a;
+}
+
+Agreement compare_exact_pairs(const Answers& got, const std::vector<std::vector<Pair>>& reference) {
+  Agreement a;
+  std::vector<Pair> differ;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    differ.clear();
+    std::set_difference(reference[i].begin(), reference[i].end(), got.pairs[i].begin(), got.pairs[i].end(),
+                        std::back_inserter(differ));
+    const long missing = long(differ.size());
+    differ.clear();
+    std::set_difference(got.pairs[i].begin(), got.pairs[i].end(), reference[i].begin(), reference[i].end(),
+                        std::back_inserter(differ));
+    const long extra = long(differ.size());
+    a.missing += missing, a.extra += extra;
+    if (missing + extra > 0) ++a.pair_sets;
+    if (bool(got.hit[i]) != !reference[i].empty()) ++a.yes_no;
+  }
+  return a;
 }
 
 Agreement compare(const Input& in, Mode mode, const Answers& got, const std::vector<std::vector<Pair>>& reference,

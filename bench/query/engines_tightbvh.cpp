@@ -4,6 +4,7 @@
 #include "fcl_adapter.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
+#include "tightbvh/distance.hpp"
 #include "tightbvh/fcl/export.hpp"
 
 namespace tightbvh::bench {
@@ -20,7 +21,11 @@ Tree build_tree(const Mesh& mesh, const Fitter& fitter) {
 class TightbvhAdapter {
  public:
   TightbvhAdapter(const Input& in, const Fitter& fitter)
-      : ma_(in.a), mb_(in.b), a_(build_tree(in.a, fitter)), b_(build_tree(in.b, fitter)) {}
+      : ma_(in.a),
+        mb_(in.b),
+        a_(build_tree(in.a, fitter)),
+        b_(build_tree(in.b, fitter)),
+        margin_(kMarginOfScale * in.scale) {}
 
   [[nodiscard]] bool first_hit(const Pose& pose) const {
     return collide(a_, ma_, Pose::identity(), b_, mb_, pose, {.mode = QueryMode::first_hit}, workspace_).hit;
@@ -30,11 +35,20 @@ class TightbvhAdapter {
         collide(a_, ma_, Pose::identity(), b_, mb_, pose, {.mode = QueryMode::all_pairs}, workspace_);
     for (const TrianglePair& p : r.pairs) out.emplace_back(p.a, p.b);
   }
+  void margin_pairs(const Pose& pose, std::vector<Pair>& out) const {
+    const QueryResult r = collide(a_, ma_, Pose::identity(), b_, mb_, pose,
+                                  {.mode = QueryMode::all_pairs, .margin = margin_}, workspace_);
+    for (const TrianglePair& p : r.pairs) out.emplace_back(p.a, p.b);
+  }
+  [[nodiscard]] double distance(const Pose& pose) const {
+    return tightbvh::distance(a_, ma_, Pose::identity(), b_, mb_, pose, {}, workspace_).distance;
+  }
 
  private:
   const Mesh& ma_;
   const Mesh& mb_;
   Tree a_, b_;
+  double margin_;
   // Scratch reused by every query of this engine (engines run on one thread); mutable because
   // the queries are logically const.
   mutable QueryWorkspace workspace_;
@@ -42,7 +56,8 @@ class TightbvhAdapter {
 
 EngineInfo ours(const std::string& name, Fitter fitter) {
   return {name, true, true, "",
-          [fitter](const Input& in) { return prepare([&] { return std::make_unique<TightbvhAdapter>(in, fitter); }); }};
+          [fitter](const Input& in) { return prepare([&] { return std::make_unique<TightbvhAdapter>(in, fitter); }); },
+          true, true};
 }
 
 // Our tree (fitter `method` everywhere, also below our leaves) exported into FCL's BVHModel<OBB>.
@@ -106,10 +121,31 @@ std::vector<Pair> Reference::pairs(const Pose& p) const {
   return out;
 }
 
+double Reference::distance(const Pose& p) const {
+  return impl_->brute ? distance_brute_force(impl_->in.a, Pose::identity(), impl_->in.b, p).distance
+                      : tightbvh::distance(impl_->a, impl_->in.a, Pose::identity(), impl_->b, impl_->in.b, p, {},
+                                           impl_->workspace)
+                            .distance;
+}
+
+double Reference::brute_force_distance(const Pose& p) const {
+  return distance_brute_force(impl_->in.a, Pose::identity(), impl_->in.b, p).distance;
+}
+
+std::vector<Pair> Reference::margin_pairs(const Pose& p) const {
+  const QueryOptions options{.mode = QueryMode::all_pairs, .margin = kMarginOfScale * impl_->in.scale};
+  const QueryResult r = impl_->brute ? collide_brute_force(impl_->in.a, Pose::identity(), impl_->in.b, p, options)
+                                     : collide(impl_->a, impl_->in.a, Pose::identity(), impl_->b, impl_->in.b, p,
+                                               options, impl_->workspace);
+  std::vector<Pair> out;
+  for (const TrianglePair& t : r.pairs) out.emplace_back(t.a, t.b);
+  return out;  // sorted and unique already
+}
+
 std::string Reference::description() const {
-  return impl_->brute ? "tightbvh collide_brute_force (every triangle pair), all pairs"
-                      : "tightbvh collide all_pairs on AABB trees (verified against brute force by the collide "
-                        "tests; meshes too large for brute force here)";
+  return impl_->brute ? "tightbvh collide_brute_force / distance_brute_force (every triangle pair)"
+                      : "tightbvh collide all_pairs / distance on AABB trees (verified against brute force by the "
+                        "collide and distance tests; meshes too large for brute force here)";
 }
 
 }  // namespace tightbvh::bench

@@ -1,11 +1,15 @@
 #pragma once
 // FCL engine adapter: fcl::collide on two BVHModels, with num_max_contacts 1 (first_hit) or
-// unlimited (all_pairs) and enable_contact off, as FCL users query triangle pairs.
+// unlimited (all_pairs) and enable_contact off, as FCL users query triangle pairs; fcl::distance
+// with the default DistanceRequest (exact: rel_err = abs_err = 0, no nearest points) for the
+// BV types FCL supports it on (RSS, OBBRSS).
+#include <algorithm>
 #include <limits>
 #include <memory>
 
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/distance.h>
 
 #include "bench.hpp"
 
@@ -54,6 +58,12 @@ class FclAdapter {
     }
   }
 
+  [[nodiscard]] double distance(const Pose& pose) {
+    distance_result_.clear();
+    fcl::distance(a_.get(), identity_, b_.get(), transform(pose), distance_request_, distance_result_);
+    return std::max(0.0, distance_result_.min_distance);  // FCL reports touching meshes as <= 0
+  }
+
  private:
   [[nodiscard]] static fcl::Transform3<double> transform(const Pose& pose) {
     fcl::Transform3<double> tf = fcl::Transform3<double>::Identity();
@@ -66,6 +76,8 @@ class FclAdapter {
   fcl::Transform3<double> identity_ = fcl::Transform3<double>::Identity();
   fcl::CollisionRequest<double> first_, all_;
   fcl::CollisionResult<double> result_;
+  fcl::DistanceRequest<double> distance_request_;
+  fcl::DistanceResult<double> distance_result_;
 };
 
 }  // namespace tightbvh::bench

@@ -66,7 +66,7 @@ struct Options {
   std::string mesh_a = default_mesh("elephant.off"), mesh_b = default_mesh("knot1.off");
   std::string engines_arg = "all", scenario_arg = "all", modes_arg = "first_hit,all_pairs";
   std::string poses_file, write_poses_file, json_file, csv_file, report_dir;
-  int poses = 100, repetitions = 5;
+  int poses = 100, repetitions = 5, brute_check = 0;
   std::uint64_t seed = 1;
   double budget = 1.0;
   bool list = false;
@@ -82,10 +82,13 @@ void add_options(CLI::App& app, Options& o) {
       ->capture_default_str();
   app.add_option("--poses", o.poses, "poses per scenario")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--seed", o.seed, "random seed of the generated poses")->capture_default_str();
-  app.add_option("--scenario", o.scenario_arg, "overlap | near | separated | all")->capture_default_str();
+  app.add_option("--scenario", o.scenario_arg,
+                 "comma-separated: overlap, near, separated, gap, all (all: the first three)")
+      ->capture_default_str();
   app.add_option("--poses-file", o.poses_file, "read poses (12 numbers a line) instead of generating them");
   app.add_option("--write-poses", o.write_poses_file, "save the generated poses");
-  app.add_option("--modes", o.modes_arg, "first_hit,all_pairs")->capture_default_str();
+  app.add_option("--modes", o.modes_arg, "comma-separated: first_hit, all_pairs, distance, margin (1% of the scale)")
+      ->capture_default_str();
   app.add_option("--repetitions", o.repetitions, "timed passes (median reported)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
@@ -94,6 +97,9 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--csv", o.csv_file, "write results as CSV");
   app.add_option("--report", o.report_dir, "write an HTML report (index.html) into this folder");
   app.add_flag("--list-engines", o.list, "list the engines and what they support");
+  app.add_option("--brute-check", o.brute_check,
+                 "distance mode: also check the reference against brute force on the first N poses per scenario")
+      ->capture_default_str();
 }
 
 // What to run: engines, modes, scenarios (nullopt = poses from the file).
@@ -124,20 +130,27 @@ std::optional<Selection> parse_selection(const Options& o, std::vector<tb::Engin
   for (const auto& m : split_list(o.modes_arg)) {
     if (m == "first_hit") sel.modes.push_back(tb::Mode::first_hit);
     else if (m == "all_pairs") sel.modes.push_back(tb::Mode::all_pairs);
+    else if (m == "distance") sel.modes.push_back(tb::Mode::distance);
+    else if (m == "margin") sel.modes.push_back(tb::Mode::margin);
     else {
-      std::cerr << "tightbvh-bench: unknown mode '" << m << "' (first_hit, all_pairs)\n";
+      std::cerr << "tightbvh-bench: unknown mode '" << m << "' (first_hit, all_pairs, distance, margin)\n";
       return std::nullopt;
     }
   }
   if (!o.poses_file.empty()) {
     sel.scenarios.push_back(std::nullopt);
-  } else if (o.scenario_arg == "all") {
-    sel.scenarios = {tb::Scenario::overlap, tb::Scenario::near, tb::Scenario::separated};
-  } else if (auto s = tb::parse_scenario(o.scenario_arg)) {
-    sel.scenarios.push_back(*s);
   } else {
-    std::cerr << "tightbvh-bench: unknown scenario '" << o.scenario_arg << "' (overlap, near, separated, all)\n";
-    return std::nullopt;
+    for (const auto& name : split_list(o.scenario_arg)) {
+      if (name == "all") {
+        for (const tb::Scenario s : {tb::Scenario::overlap, tb::Scenario::near, tb::Scenario::separated})
+          sel.scenarios.push_back(s);
+      } else if (auto s = tb::parse_scenario(name)) {
+        sel.scenarios.push_back(*s);
+      } else {
+        std::cerr << "tightbvh-bench: unknown scenario '" << name << "' (overlap, near, separated, gap, all)\n";
+        return std::nullopt;
+      }
+    }
   }
   return sel;
 }
@@ -177,18 +190,27 @@ class Run {
     progress_.show(sname + ": poses", 0);
     const std::vector<Pose> ps =
         scenario ? tb::generate_poses(input_.a, input_.b, *scenario, o_.poses, o_.seed,
-                                      [&](const Pose& p) { return reference_.collides(p); })
+                                      [&](const Pose& p) { return reference_.collides(p); },
+                                      [&](const Pose& p) { return reference_.distance(p); })
                  : tb::read_poses(o_.poses_file);
     if (!scenario) info_.poses = int(ps.size());
     if (!o_.write_poses_file.empty()) written.insert(written.end(), ps.begin(), ps.end());
+    const auto wants = [&](tb::Mode m) { return std::count(sel_.modes.begin(), sel_.modes.end(), m) > 0; };
+    const bool want_distance = wants(tb::Mode::distance), want_margin = wants(tb::Mode::margin);
+    const bool want_pairs = wants(tb::Mode::first_hit) || wants(tb::Mode::all_pairs);
     std::vector<std::vector<tb::Pair>> ref_pairs(ps.size());
+    std::vector<double> ref_distance(want_distance ? ps.size() : 0);
+    std::vector<std::vector<tb::Pair>> ref_margin(want_margin ? ps.size() : 0);
     for (std::size_t i = 0; i < ps.size(); ++i) {
-      ref_pairs[i] = reference_.pairs(ps[i]);
+      if (want_pairs) ref_pairs[i] = reference_.pairs(ps[i]);
+      if (want_distance) ref_distance[i] = reference_.distance(ps[i]);
+      if (want_margin) ref_margin[i] = reference_.margin_pairs(ps[i]);
       progress_.show(sname + ": reference", double(i + 1) / ps.size());
     }
+    if (want_distance) brute_check(sname, ps, ref_distance);
     std::vector<Job> jobs = prepare(sname, ps);
     time_passes(sname, ps, jobs);
-    add_rows(sname, ps, jobs, ref_pairs);
+    add_rows(sname, ps, jobs, ref_pairs, ref_distance, ref_margin);
   }
 
   std::map<std::string, std::unique_ptr<tb::Prepared>> built;
@@ -196,11 +218,31 @@ class Run {
   std::vector<Pose> written;
 
  private:
+  // The distance reference against every triangle pair on the first --brute-check poses.
+  void brute_check(const std::string& sname, const std::vector<Pose>& ps, const std::vector<double>& ref) {
+    const std::size_t n = std::min<std::size_t>(std::max(o_.brute_check, 0), ps.size());
+    if (n == 0) return;
+    int differ = 0;
+    double largest = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      progress_.show(sname + ": brute force", double(i + 1) / n);
+      const double error = std::abs(reference_.brute_force_distance(ps[i]) - ref[i]);
+      largest = std::max(largest, error);
+      if (!(error <= 1e-9 * ref[i] + 1e-12 * input_.scale)) ++differ;
+    }
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "distance reference vs brute force on %zu poses: %d differ (largest difference %.3g)", n, differ,
+                  largest);
+    info_.notes.push_back(sname + ": " + text);
+  }
+
   // Build (once per engine), then the checked warm-up pass of every engine and mode.
   std::vector<Job> prepare(const std::string& sname, const std::vector<Pose>& ps) {
     std::vector<Job> jobs;
     for (const auto& e : sel_.engines) {
-      if (failed_.count(e.name)) continue;
+      const auto supported = [&](tb::Mode m) { return supports(e, m); };
+      if (failed_.count(e.name) || std::none_of(sel_.modes.begin(), sel_.modes.end(), supported)) continue;
       if (!built.count(e.name)) {
         progress_.show(e.name + ": build", 0);
         try {
@@ -212,7 +254,7 @@ class Run {
         }
       }
       for (tb::Mode mode : sel_.modes) {
-        if ((mode == tb::Mode::first_hit && !e.first_hit) || (mode == tb::Mode::all_pairs && !e.all_pairs)) continue;
+        if (!supports(e, mode)) continue;
         progress_.show(sname + ": " + e.name + " " + tb::to_string(mode) + " (checked pass)", 0);
         jobs.push_back({&e, built[e.name].get(), mode, built[e.name]->answer(mode, ps), {}, 0, 1});
         // Calibration: a pass long enough already counts as the first sample.
@@ -244,25 +286,58 @@ class Run {
     }
   }
 
+  [[nodiscard]] static bool supports(const tb::EngineInfo& e, tb::Mode mode) {
+    switch (mode) {
+      case tb::Mode::first_hit: return e.first_hit;
+      case tb::Mode::all_pairs: return e.all_pairs;
+      case tb::Mode::distance: return e.distance;
+      case tb::Mode::margin: return e.margin;
+    }
+    return false;
+  }
+
   void add_rows(const std::string& sname, const std::vector<Pose>& ps, const std::vector<Job>& jobs,
-                const std::vector<std::vector<tb::Pair>>& ref_pairs) {
+                const std::vector<std::vector<tb::Pair>>& ref_pairs, const std::vector<double>& ref_distance,
+                const std::vector<std::vector<tb::Pair>>& ref_margin) {
     for (const Job& job : jobs) {
       tb::Row row{sname, job.info->name, job.mode, job.engine->build_seconds, ps.size(), tb::median(job.times),
                   int(job.times.size()), 0, 0, {}, {}};
       for (std::size_t i = 0; i < ps.size(); ++i) {
         row.hits += job.answers.hit[i];
-        if (job.mode == tb::Mode::all_pairs) row.pairs += job.answers.pairs[i].size();
+        if (tb::reports_pairs(job.mode)) row.pairs += job.answers.pairs[i].size();
       }
-      row.agreement = tb::compare(input_, job.mode, job.answers, ref_pairs, ps, info_.tolerance);
+      if (job.mode == tb::Mode::distance)
+        row.agreement = tb::compare_distances(job.answers, ref_distance, input_.scale);
+      else if (job.mode == tb::Mode::margin)
+        row.agreement = tb::compare_exact_pairs(job.answers, ref_margin);
+      else
+        row.agreement = tb::compare(input_, job.mode, job.answers, ref_pairs, ps, info_.tolerance);
       rows.push_back(std::move(row));
     }
-    // The reference itself, for the hit and pair counts every engine is compared to.
-    tb::Row ref_row{sname, "reference", tb::Mode::all_pairs, 0, ps.size(), 0, 0, 0, 0, {}, {}};
-    for (const auto& p : ref_pairs) {
-      ref_row.hits += p.empty() ? 0 : 1;
-      ref_row.pairs += p.size();
+    if (!ref_margin.empty()) {
+      tb::Row ref_row{sname, "reference", tb::Mode::margin, 0, ps.size(), 0, 0, 0, 0, {}, {}};
+      for (const auto& p : ref_margin) {
+        ref_row.hits += p.empty() ? 0 : 1;
+        ref_row.pairs += p.size();
+      }
+      rows.push_back(ref_row);
     }
-    rows.push_back(ref_row);
+    if (!ref_distance.empty()) {
+      tb::Row ref_row{sname, "reference", tb::Mode::distance, 0, ps.size(), 0, 0, 0, 0, {}, {}};
+      for (const double d : ref_distance) ref_row.hits += d == 0.0 ? 1 : 0;
+      rows.push_back(ref_row);
+    }
+    // The reference itself, for the hit and pair counts every engine is compared to.
+    if (std::count(sel_.modes.begin(), sel_.modes.end(), tb::Mode::first_hit) +
+            std::count(sel_.modes.begin(), sel_.modes.end(), tb::Mode::all_pairs) >
+        0) {
+      tb::Row ref_row{sname, "reference", tb::Mode::all_pairs, 0, ps.size(), 0, 0, 0, 0, {}, {}};
+      for (const auto& p : ref_pairs) {
+        ref_row.hits += p.empty() ? 0 : 1;
+        ref_row.pairs += p.size();
+      }
+      rows.push_back(ref_row);
+    }
   }
 
   const Options& o_;
@@ -302,8 +377,9 @@ int main(int argc, char** argv) {
     auto engines = all_engines();
     if (o.list) {
       for (const auto& e : engines)
-        std::printf("%-18s first_hit:%-3s all_pairs:%-3s %s\n", e.name.c_str(), e.first_hit ? "yes" : "no",
-                    e.all_pairs ? "yes" : "no", e.note.c_str());
+        std::printf("%-18s first_hit:%-3s all_pairs:%-3s distance:%-3s margin:%-3s %s\n", e.name.c_str(),
+                    e.first_hit ? "yes" : "no", e.all_pairs ? "yes" : "no", e.distance ? "yes" : "no",
+                    e.margin ? "yes" : "no", e.note.c_str());
       return 0;
     }
     const std::optional<Selection> sel = parse_selection(o, std::move(engines));

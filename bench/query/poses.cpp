@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <random>
+#include <stdexcept>
 
 #include <Eigen/Geometry>
 
@@ -15,12 +16,13 @@ std::string_view to_string(Scenario s) {
     case Scenario::overlap: return "overlap";
     case Scenario::near: return "near";
     case Scenario::separated: return "separated";
+    case Scenario::gap: return "gap";
   }
   return "?";
 }
 
 std::optional<Scenario> parse_scenario(std::string_view name) {
-  for (Scenario s : {Scenario::overlap, Scenario::near, Scenario::separated})
+  for (Scenario s : {Scenario::overlap, Scenario::near, Scenario::separated, Scenario::gap})
     if (to_string(s) == name) return s;
   return std::nullopt;
 }
@@ -79,10 +81,29 @@ double first_contact(const Sphere& sa, const Sphere& sb, const Mat3& rotation, c
   return free;  // the last known free distance: within bisection tolerance of contact
 }
 
+// From first contact at s along `dir`, the offset at which the meshes are `gap` apart: doubling,
+// then bisection on the distance (which grows with the offset near contact, not always
+// monotonically; any offset whose distance is within 0.1% of `gap` will do).
+double offset_for_gap(const Sphere& sa, const Sphere& sb, const Mat3& rotation, const Vec3& dir, double s, double gap,
+                      const std::function<double(const Pose&)>& distance) {
+  const auto at = [&](double offset) { return distance(place(rotation, sb.center, sa.center + (s + offset) * dir)); };
+  double lo = 0.0, hi = gap;
+  for (int i = 0; i < 30 && at(hi) < gap; ++i) lo = hi, hi *= 2.0;
+  for (int i = 0; i < 40; ++i) {
+    const double mid = 0.5 * (lo + hi), d = at(mid);
+    if (std::abs(d - gap) <= 1e-3 * gap) return mid;
+    (d < gap ? lo : hi) = mid;
+  }
+  return hi;
+}
+
 }  // namespace
 
 std::vector<Pose> generate_poses(const Mesh& a, const Mesh& b, Scenario scenario, int count, std::uint64_t seed,
-                                 const std::function<bool(const Pose&)>& collides) {
+                                 const std::function<bool(const Pose&)>& collides,
+                                 const std::function<double(const Pose&)>& distance) {
+  if (scenario == Scenario::gap && !distance) throw std::logic_error("generate_poses: gap needs a distance");
+  const double diagonal = std::max(bounds_of(a.vertices).diagonal(), bounds_of(b.vertices).diagonal());
   const Sphere sa = bounding_sphere(a), sb = bounding_sphere(b);
   // Each scenario gets its own stream, so `all` and a single scenario give the same poses.
   std::mt19937_64 rng(seed * 1000003u + static_cast<std::uint64_t>(scenario));
@@ -100,8 +121,13 @@ std::vector<Pose> generate_poses(const Mesh& a, const Mesh& b, Scenario scenario
     }
     const double s = first_contact(sa, sb, rot, dir, collides);
     if (s <= 0 && ++attempts < 100 * count) continue;  // no contact along this line: another one
-    const double offset = scenario == Scenario::near ? (2.0 * u(rng) - 1.0) * 0.01 * sb.radius
-                                                     : (0.05 + 0.20 * u(rng)) * sb.radius;
+    double offset;
+    if (scenario == Scenario::near)
+      offset = (2.0 * u(rng) - 1.0) * 0.01 * sb.radius;
+    else if (scenario == Scenario::separated)
+      offset = (0.05 + 0.20 * u(rng)) * sb.radius;
+    else
+      offset = offset_for_gap(sa, sb, rot, dir, s, (0.005 + 0.045 * u(rng)) * diagonal, distance);
     poses.push_back(place(rot, sb.center, sa.center + (s + offset) * dir));
   }
   return poses;

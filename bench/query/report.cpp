@@ -206,7 +206,7 @@ void write_report(const std::filesystem::path& dir, const RunInfo& info, const s
   for (const Row& r : rows)
     if (std::find(scenarios.begin(), scenarios.end(), r.scenario) == scenarios.end()) scenarios.push_back(r.scenario);
   for (const auto& sc : scenarios)
-    for (Mode m : {Mode::first_hit, Mode::all_pairs}) {
+    for (Mode m : {Mode::first_hit, Mode::all_pairs, Mode::distance, Mode::margin}) {
       std::vector<const Row*> sel;
       for (const Row& r : rows)
         if (r.scenario == sc && r.mode == m && r.engine != "reference") sel.push_back(&r);
@@ -215,13 +215,13 @@ void write_report(const std::filesystem::path& dir, const RunInfo& info, const s
 
   // The table.
   h << "<h2>Results</h2><table><tr><th>scenario</th><th>engine</th><th>mode</th><th>build s</th><th>queries/s</th>"
-       "<th>vs fcl-obb</th><th>hits</th><th>pairs</th><th>agreement</th></tr>";
+       "<th>vs fcl-obb (distance: fcl-obbrss)</th><th>hits</th><th>pairs</th><th>agreement</th></tr>";
   for (const Row& r : rows) {
     if (r.engine == "reference") continue;
     h << "<tr><td>" << esc(r.scenario) << "</td><td>" << esc(r.engine) << "</td><td>" << to_string(r.mode)
       << "</td><td>" << fmt(r.build_seconds, "%.3f") << "</td><td>" << fmt(r.qps(), "%.1f") << "</td><td>"
       << (r.ratio ? fmt(*r.ratio, "%.2fx") : "-") << "</td><td>" << r.hits << "</td><td>"
-      << (r.mode == Mode::all_pairs ? std::to_string(r.pairs) : "-") << "</td><td style='text-align:left'>"
+      << (reports_pairs(r.mode) ? std::to_string(r.pairs) : "-") << "</td><td style='text-align:left'>"
       << esc(agreement_text(r)) << "</td></tr>";
   }
   h << "</table>";

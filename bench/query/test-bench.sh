@@ -29,4 +29,12 @@ grep -q '"engines"' a.json || fail "no engines in JSON"
 "$bench" --poses-file near.txt --engines tightbvh-pca,fcl-obb,fcl-obbrss,fcl-export-pca --repetitions 1 > file.txt
 # Our engines and FCL's must agree with the reference on every pose.
 if grep -E '^(tightbvh|fcl)' file.txt | grep -q MISMATCH; then cat file.txt; fail "mismatch"; fi
+# Distance mode on the gap scenario: our distances and FCL's agree with the reference.
+"$bench" --modes distance --scenario gap,overlap --poses 4 --engines tightbvh-pca,fcl-obbrss,fcl-rss --repetitions 1 \
+  > distance.txt
+[ "$(grep -cE '^(tightbvh-pca|fcl-obbrss|fcl-rss) +distance' distance.txt)" = 6 ] || { cat distance.txt; fail "distance rows"; }
+if grep -E '^(tightbvh|fcl)' distance.txt | grep -q MISMATCH; then cat distance.txt; fail "distance mismatch"; fi
+# Margin mode: our pair sets equal the reference's exactly.
+"$bench" --modes margin --scenario near --poses 3 --engines tightbvh-pca --repetitions 1 > margin.txt
+grep -qE '^tightbvh-pca +margin .* ok$' margin.txt || { cat margin.txt; fail "margin"; }
 echo "test-bench: ok"

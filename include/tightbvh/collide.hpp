@@ -45,6 +45,10 @@ enum class DescendRule {
 struct QueryOptions {
   QueryMode mode = QueryMode::first_hit;
   DescendRule descend = DescendRule::larger_volume;
+  // Safety margin (finite, >= 0): report the triangle pairs at distance <= margin
+  // (tri_tri_distance, tri_distance.hpp) instead of the touching ones; boxes are tested inflated
+  // by it. 0 (the default) is plain touching, through the same code as before margins existed.
+  double margin = 0.0;
 };
 
 // Relative margin of the box tests (times the sum of the two root boxes' scales).
@@ -76,7 +80,8 @@ struct QueryResult {
 [[nodiscard]] Pose relative_pose(const Pose& pa, const Pose& pb);
 
 // Tree `a` must have been built over mesh `ma` (and `b` over `mb`); boxes in the mesh frames.
-// A tree whose triangle count differs from its mesh's throws InputError; an empty tree never hits.
+// A tree whose triangle count differs from its mesh's throws InputError, as does a negative, NaN
+// or infinite margin; an empty tree never hits.
 [[nodiscard]] QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa,  //
                                   const Tree& b, const Mesh& mb, const Pose& pb,  //
                                   const QueryOptions& options = {});
@@ -94,7 +99,7 @@ struct QueryResult {
                                                      std::span<const Pose> poses_b,                 //
                                                      const QueryOptions& options = {}, unsigned threads = 0);
 
-// Reference: every triangle pair, same predicate and same transform as collide(). In
+// Reference: every triangle pair, same predicate (margin included) and same transform as collide(). In
 // first_hit mode it stops at the first touching pair (in index order). stats.box_tests == 0.
 [[nodiscard]] QueryResult collide_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb,
                                               const QueryOptions& options = {});

@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
 #include <thread>
 
 #include "../tree/parallel.hpp"
+#include "query_common.hpp"
 #include "query_workspace.hpp"
 #include "tightbvh/obb_overlap.hpp"
 #include "tightbvh/tri_tri.hpp"
@@ -16,31 +18,23 @@
 namespace tightbvh {
 namespace {
 
-// B's vertex in A's frame. Written out so that collide() and collide_brute_force() evaluate
-// exactly the same expression (same operation order) and hence see the same triangles.
-[[nodiscard]] inline Vec3 map_point(const Pose& rel, const Vec3& v) {
-  const Mat3& r = rel.rotation;
-  const Vec3& t = rel.translation;
-  return {r(0, 0) * v.x() + r(0, 1) * v.y() + r(0, 2) * v.z() + t.x(),
-          r(1, 0) * v.x() + r(1, 1) * v.y() + r(1, 2) * v.z() + t.y(),
-          r(2, 0) * v.x() + r(2, 1) * v.y() + r(2, 2) * v.z() + t.z()};
-}
-
-[[nodiscard]] double box_scale(const Obb& box) {
-  return box.center.cwiseAbs().maxCoeff() + box.half_extents.cwiseAbs().maxCoeff();
-}
+using query_detail::box_scale;
+using query_detail::map_point;
 
 // Number of B triangles mapped into A's frame at once in a leaf-leaf test.
 constexpr std::uint32_t kLeafChunk = 32;
 
-template <bool FirstHit>
+// WithMargin: pairs within options.margin (boxes inflated by it); without: touching pairs, the
+// code of margin-free collide unchanged.
+template <bool FirstHit, bool WithMargin = false>
 void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& mb, const Pose& rel,
-                   DescendRule rule, QueryWorkspace::Scratch& ws, QueryResult& result) {
+                   const QueryOptions& options, QueryWorkspace::Scratch& ws, QueryResult& result) {
   using namespace query_detail;
+  const DescendRule rule = options.descend;
   const Mat3& R = rel.rotation;
   const Vec3& t = rel.translation;
-  const double margin = kBoxMargin * (box_scale(ta.nodes[0].box) + box_scale(tb.nodes[0].box) +
-                                      t.cwiseAbs().maxCoeff());
+  double margin = kBoxMargin * (box_scale(ta.nodes[0].box) + box_scale(tb.nodes[0].box) + t.cwiseAbs().maxCoeff());
+  if constexpr (WithMargin) margin += options.margin;
   std::uint64_t box_tests = 0, triangle_tests = 0;
   BoxCache& cache = ws.mapped_b;
   cache.begin(tb.nodes.size());
@@ -77,7 +71,12 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
         const Vec3& p2 = ma.vertices[tri[2]];
         for (std::uint32_t j = 0; j < nbc; ++j) {
           ++triangle_tests;
-          if (tri_tri_overlap(p0, p1, p2, mapped[j][0], mapped[j][1], mapped[j][2])) {
+          bool report;
+          if constexpr (WithMargin)
+            report = within_margin(p0, p1, p2, mapped[j][0], mapped[j][1], mapped[j][2], options.margin);
+          else
+            report = tri_tri_overlap(p0, p1, p2, mapped[j][0], mapped[j][1], mapped[j][2]);
+          if (report) {
             result.hit = true;
             result.pairs.push_back({ia, tb.triangle_order[nb.first + cb + j]});
             if constexpr (FirstHit) return Walk::stop;
@@ -92,13 +91,9 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
   result.stats.triangle_tests += triangle_tests;
 }
 
-// O(1) guard against the common mistake of pairing a tree with another mesh, which would
-// otherwise index out of range in the leaves. (Full checking is validate(tree, mesh).)
-void check_tree_fits_mesh(const Tree& tree, const Mesh& mesh, const char* which) {
-  if (tree.triangle_order.size() != mesh.triangles.size())
-    throw InputError(std::string("collide: tree ") + which + " was built over " +
-                     std::to_string(tree.triangle_order.size()) + " triangles but mesh " + which + " has " +
-                     std::to_string(mesh.triangles.size()));
+void check_margin(double margin) {
+  if (!(margin >= 0.0) || !std::isfinite(margin))
+    throw InputError("collide: margin must be finite and >= 0, got " + std::to_string(margin));
 }
 
 void finish(QueryResult& result) {
@@ -119,15 +114,24 @@ QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b
                     const QueryOptions& options, QueryWorkspace& workspace) {
   QueryResult result;
   if (a.nodes.empty() || b.nodes.empty()) return result;
-  check_tree_fits_mesh(a, ma, "A");
-  check_tree_fits_mesh(b, mb, "B");
+  query_detail::check_tree_fits_mesh("collide", a, ma, "A");
+  query_detail::check_tree_fits_mesh("collide", b, mb, "B");
+  check_margin(options.margin);
   const Pose rel = relative_pose(pa, pb);
-  if (options.mode == QueryMode::first_hit) {
-    collide_trees<true>(a, ma, b, mb, rel, options.descend, workspace.scratch(), result);
+  QueryWorkspace::Scratch& ws = workspace.scratch();
+  const bool first = options.mode == QueryMode::first_hit;
+  if (options.margin == 0.0) {
+    if (first)
+      collide_trees<true>(a, ma, b, mb, rel, options, ws, result);
+    else
+      collide_trees<false>(a, ma, b, mb, rel, options, ws, result);
   } else {
-    collide_trees<false>(a, ma, b, mb, rel, options.descend, workspace.scratch(), result);
-    finish(result);
+    if (first)
+      collide_trees<true, true>(a, ma, b, mb, rel, options, ws, result);
+    else
+      collide_trees<false, true>(a, ma, b, mb, rel, options, ws, result);
   }
+  if (!first) finish(result);
   return result;
 }
 
@@ -154,6 +158,7 @@ std::vector<QueryResult> collide_batch(const Tree& a, const Mesh& ma, const Pose
 
 QueryResult collide_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb,
                                 const QueryOptions& options) {
+  check_margin(options.margin);
   QueryResult result;
   const Pose rel = relative_pose(pa, pb);
   std::vector<Vec3> mapped(mb.vertices.size());
@@ -163,7 +168,10 @@ QueryResult collide_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, 
     for (std::uint32_t ib = 0; ib < mb.triangles.size(); ++ib) {
       const Triangle& t = mb.triangles[ib];
       ++result.stats.triangle_tests;
-      if (tri_tri_overlap(p0, p1, p2, mapped[t[0]], mapped[t[1]], mapped[t[2]])) {
+      const bool report = options.margin == 0.0 ? tri_tri_overlap(p0, p1, p2, mapped[t[0]], mapped[t[1]], mapped[t[2]])
+                                                : query_detail::within_margin(p0, p1, p2, mapped[t[0]], mapped[t[1]],
+                                                                              mapped[t[2]], options.margin);
+      if (report) {
         result.hit = true;
         result.pairs.push_back({ia, ib});
         if (options.mode == QueryMode::first_hit) return result;

@@ -34,11 +34,18 @@ struct BoxCache {
   }
 };
 
+// A node pair of the distance descent with its lower bound (distance.cpp).
+struct BoundedPair {
+  std::uint32_t a, b;
+  double bound;
+};
+
 }  // namespace query_detail
 
 struct QueryWorkspace::Scratch {
   query_detail::PairStack stack;
   query_detail::BoxCache mapped_b;
+  std::vector<query_detail::BoundedPair> distance_stack;
 };
 
 }  // namespace tightbvh

@@ -1,0 +1,50 @@
+#pragma once
+// Internal: what the tree-vs-tree queries (collide.cpp, distance.cpp) must compute identically.
+#include <algorithm>
+#include <string>
+
+#include "tightbvh/error.hpp"
+#include "tightbvh/mesh.hpp"
+#include "tightbvh/obb.hpp"
+#include "tightbvh/pose.hpp"
+#include "tightbvh/tree.hpp"
+#include "tightbvh/tri_distance.hpp"
+
+namespace tightbvh::query_detail {
+
+// B's vertex in A's frame. Written out so that the queries and their brute-force references
+// evaluate exactly the same expression (same operation order) and hence see the same triangles.
+[[nodiscard]] inline Vec3 map_point(const Pose& rel, const Vec3& v) {
+  const Mat3& r = rel.rotation;
+  const Vec3& t = rel.translation;
+  return {r(0, 0) * v.x() + r(0, 1) * v.y() + r(0, 2) * v.z() + t.x(),
+          r(1, 0) * v.x() + r(1, 1) * v.y() + r(1, 2) * v.z() + t.y(),
+          r(2, 0) * v.x() + r(2, 1) * v.y() + r(2, 2) * v.z() + t.z()};
+}
+
+// The size that scales the box tests' rounding allowance (kBoxMargin times the sum of both).
+[[nodiscard]] inline double box_scale(const Obb& box) {
+  return box.center.cwiseAbs().maxCoeff() + box.half_extents.cwiseAbs().maxCoeff();
+}
+
+// O(1) guard against the common mistake of pairing a tree with another mesh, which would
+// otherwise index out of range in the leaves. (Full checking is validate(tree, mesh).)
+inline void check_tree_fits_mesh(const char* query, const Tree& tree, const Mesh& mesh, const char* which) {
+  if (tree.triangle_order.size() != mesh.triangles.size())
+    throw InputError(std::string(query) + ": tree " + which + " was built over " +
+                     std::to_string(tree.triangle_order.size()) + " triangles but mesh " + which + " has " +
+                     std::to_string(mesh.triangles.size()));
+}
+
+// The safety-margin predicate of collide() and collide_brute_force() (margin > 0): the exact
+// triangle distance, after a cheap rejection when the triangles' bounding boxes are more than
+// `margin` apart along an axis (then so are the triangles). Shared, so both decide alike.
+[[nodiscard]] inline bool within_margin(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
+                                        const Vec3& q0, const Vec3& q1, const Vec3& q2, double margin) {
+  const Vec3 p_lo = p0.cwiseMin(p1).cwiseMin(p2), p_hi = p0.cwiseMax(p1).cwiseMax(p2);
+  const Vec3 q_lo = q0.cwiseMin(q1).cwiseMin(q2), q_hi = q0.cwiseMax(q1).cwiseMax(q2);
+  if (((q_lo - p_hi).array() > margin).any() || ((p_lo - q_hi).array() > margin).any()) return false;
+  return tri_tri_within(p0, p1, p2, q0, q1, q2, margin);
+}
+
+}  // namespace tightbvh::query_detail

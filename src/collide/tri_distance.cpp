@@ -1,0 +1,202 @@
+// Exact-predicate-consistent triangle-triangle distance: the touching test first (tri_tri.hpp),
+// then the least of the edge-edge and vertex-face candidates. See include/tightbvh/tri_distance.hpp.
+#include "tightbvh/tri_distance.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "tightbvh/tri_tri.hpp"
+
+namespace tightbvh {
+namespace {
+
+// The closest pair found so far: `p` on the first triangle, `q` on the second.
+struct Closest {
+  double squared = std::numeric_limits<double>::infinity();
+  Vec3 p = Vec3::Zero();
+  Vec3 q = Vec3::Zero();
+
+  // True when the pair became the best.
+  bool offer(const Vec3& on_p, const Vec3& on_q) {
+    const double d2 = (on_p - on_q).squaredNorm();
+    if (!(d2 < squared)) return false;
+    squared = d2, p = on_p, q = on_q;
+    return true;
+  }
+  // The planes through p and q normal to v = q - p have P on one side and Q on the other: no
+  // pair of points is closer, so the search may stop (PQP's early exit).
+  [[nodiscard]] bool separates(const std::array<Vec3, 3>& tp, const std::array<Vec3, 3>& tq) const {
+    const Vec3 v = q - p;
+    for (int i = 0; i < 3; ++i)
+      if ((tp[i] - p).dot(v) > 0.0 || (tq[i] - q).dot(v) < 0.0) return false;
+    return squared > 0.0;
+  }
+};
+
+[[nodiscard]] inline double clamp01(double x) { return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x); }
+
+// The point at parameter s on segment [a, b] (direction u = b - a); the endpoints exactly.
+[[nodiscard]] inline Vec3 at(const Vec3& a, const Vec3& b, const Vec3& u, double s) {
+  return s == 0.0 ? a : (s == 1.0 ? b : Vec3(a + s * u));
+}
+
+// The point of segment [a, b] (u = b - a) closest to x.
+[[nodiscard]] inline Vec3 closest_on_segment(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& u) {
+  const double uu = u.squaredNorm();
+  return uu == 0.0 ? a : at(a, b, u, clamp01((x - a).dot(u) / uu));
+}
+
+// sin^2 of the angle between two edges below which the 2x2 solve (whose determinant then
+// cancels) is backed by the four endpoint-to-segment candidates. With sin^2 above it the
+// determinant keeps ~10 correct digits.
+constexpr double kNearlyParallel = 1e-6;
+
+// Closest points of segments [p0, p1] and [q0, q1]: minimise |r + s u - t v|^2 over [0,1]^2
+// (r = p0 - q0); the unconstrained s, then t for that s, then s again if t was clamped.
+// Returns true when it improved `best`.
+bool segment_segment(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1, Closest& best) {
+  const Vec3 u = p1 - p0, v = q1 - q0, r = p0 - q0;
+  const double a = u.squaredNorm(), e = v.squaredNorm();
+  if (a == 0.0 || e == 0.0) {  // a point against a segment (or a point)
+    if (a == 0.0) return best.offer(p0, closest_on_segment(p0, q0, q1, v));
+    return best.offer(closest_on_segment(q0, p0, p1, u), q0);
+  }
+  const double b = u.dot(v), c = u.dot(r), f = v.dot(r);
+  const double det = a * e - b * b;
+  double s = det > 0.0 ? clamp01((b * f - c * e) / det) : 0.0;
+  double t = (b * s + f) / e;
+  if (t < 0.0) {
+    t = 0.0, s = clamp01(-c / a);
+  } else if (t > 1.0) {
+    t = 1.0, s = clamp01((b - c) / a);
+  }
+  bool improved = best.offer(at(p0, p1, u, s), at(q0, q1, v, t));
+  if (det <= kNearlyParallel * a * e) {
+    improved |= best.offer(p0, closest_on_segment(p0, q0, q1, v));
+    improved |= best.offer(p1, closest_on_segment(p1, q0, q1, v));
+    improved |= best.offer(closest_on_segment(q0, p0, p1, u), q0);
+    improved |= best.offer(closest_on_segment(q1, p0, p1, u), q1);
+  }
+  return improved;
+}
+
+// A triangle's plane, or none for (nearly) degenerate triangles: with sin(angle) < 1e-10 the
+// rounded normal's direction is unreliable, and the edges (segment candidates) cover the face.
+struct Face {
+  const Vec3* c[3];
+  Vec3 normal;  // (c1 - c0) x (c2 - c0), not normalised
+  double normal_squared;
+  bool valid;
+
+  Face(const Vec3& c0, const Vec3& c1, const Vec3& c2) : c{&c0, &c1, &c2} {
+    const Vec3 e1 = c1 - c0, e2 = c2 - c0;
+    normal = e1.cross(e2);
+    normal_squared = normal.squaredNorm();
+    valid = normal_squared > 1e-20 * e1.squaredNorm() * e2.squaredNorm() && normal_squared > 0.0;
+  }
+  // x projects into the closed triangle (the component of x along the normal cancels out).
+  [[nodiscard]] bool projects_inside(const Vec3& x) const {
+    for (int i = 0; i < 3; ++i) {
+      const Vec3& a = *c[i];
+      const Vec3& b = *c[(i + 1) % 3];
+      if (normal.dot((b - a).cross(x - a)) < 0.0) return false;
+    }
+    return true;
+  }
+  [[nodiscard]] Vec3 project(const Vec3& x) const { return x - normal * (normal.dot(x - *c[0]) / normal_squared); }
+};
+
+// Vertex x against the interior of `face`; `x_on_p` says which triangle x belongs to.
+void vertex_face(const Vec3& x, const Face& face, bool x_on_p, Closest& best) {
+  if (!face.valid || !face.projects_inside(x)) return;
+  const Vec3 y = face.project(x);
+  if (x_on_p)
+    best.offer(x, y);
+  else
+    best.offer(y, x);
+}
+
+// Touching triangles only (to report a common point): where edge [a, b] crosses the face's plane
+// inside the face. Non-coplanar touching triangles meet in a segment whose endpoints lie on
+// edges of one triangle and in the other, so one of these crossings (or an edge-edge or
+// vertex-face candidate, for edges in the plane) is a common point up to rounding.
+void edge_crossing(const Vec3& a, const Vec3& b, const Face& face, bool edge_on_p, Closest& best) {
+  if (!face.valid) return;
+  const double sa = face.normal.dot(a - *face.c[0]), sb = face.normal.dot(b - *face.c[0]);
+  if ((sa > 0.0 && sb > 0.0) || (sa < 0.0 && sb < 0.0) || sa == sb) return;
+  const Vec3 x = a + (sa / (sa - sb)) * (b - a);
+  if (!face.projects_inside(x)) return;
+  const Vec3 y = face.project(x);
+  if (edge_on_p)
+    best.offer(x, y);
+  else
+    best.offer(y, x);
+}
+
+// The reported distance of disjoint triangles whose closest pair is `squared` apart: never 0,
+// even when the closest points round to the same double.
+[[nodiscard]] inline double disjoint_distance(double squared) {
+  return std::max(std::sqrt(squared), std::numeric_limits<double>::min());
+}
+
+// The closest pair of two triangles given in canonical order. Disjoint triangles stop at the
+// first candidate whose pair is provably closest (Closest::separates), or, with `enough` >= 0,
+// at the first whose distance is <= enough (tri_tri_within needs no more).
+Closest closest_pair(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>& q, bool touching, double enough = -1.0) {
+  Closest best;
+  const bool may_stop = !touching;
+  const auto done = [&] { return best.separates(p, q) || disjoint_distance(best.squared) <= enough; };
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (segment_segment(p[i], p[(i + 1) % 3], q[j], q[(j + 1) % 3], best) && may_stop && done()) return best;
+  const Face face_p(p[0], p[1], p[2]), face_q(q[0], q[1], q[2]);
+  for (int i = 0; i < 3; ++i) {
+    vertex_face(p[i], face_q, true, best);
+    vertex_face(q[i], face_p, false, best);
+  }
+  if (touching && best.squared > 0.0) {
+    for (int i = 0; i < 3; ++i) {
+      edge_crossing(p[i], p[(i + 1) % 3], face_q, true, best);
+      edge_crossing(q[i], q[(i + 1) % 3], face_p, false, best);
+    }
+  }
+  return best;
+}
+
+// Canonical order (lexicographic on the nine coordinates of each), so that swapping the two
+// triangles swaps the points and leaves every rounding, hence the distance, unchanged.
+[[nodiscard]] bool canonical_swap(std::array<Vec3, 3>& p, std::array<Vec3, 3>& q) {
+  const auto key = [](const std::array<Vec3, 3>& t) {
+    return std::array<double, 9>{t[0].x(), t[0].y(), t[0].z(), t[1].x(), t[1].y(),
+                                 t[1].z(), t[2].x(), t[2].y(), t[2].z()};
+  };
+  const bool swapped = key(q) < key(p);
+  if (swapped) std::swap(p, q);
+  return swapped;
+}
+
+}  // namespace
+
+TriangleDistance tri_tri_distance(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
+                                  const Vec3& q0, const Vec3& q1, const Vec3& q2) {
+  const bool touching = tri_tri_overlap(p0, p1, p2, q0, q1, q2);
+  std::array<Vec3, 3> p{p0, p1, p2}, q{q0, q1, q2};
+  const bool swapped = canonical_swap(p, q);
+  const Closest best = closest_pair(p, q, touching);
+  TriangleDistance result;
+  result.point_p = swapped ? best.q : best.p;
+  result.point_q = swapped ? best.p : best.q;
+  result.distance = touching ? 0.0 : disjoint_distance(best.squared);
+  return result;
+}
+
+bool tri_tri_within(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
+                    const Vec3& q0, const Vec3& q1, const Vec3& q2, double margin) {
+  if (tri_tri_overlap(p0, p1, p2, q0, q1, q2)) return true;
+  std::array<Vec3, 3> p{p0, p1, p2}, q{q0, q1, q2};
+  (void)canonical_swap(p, q);  // the order alone matters here
+  return disjoint_distance(closest_pair(p, q, false, margin).squared) <= margin;
+}
+
+}  // namespace tightbvh

@@ -1,0 +1,74 @@
+// `tightbvh distance` and `tightbvh collide --margin`, run as a user would.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "../cli_runner.hpp"
+
+namespace tightbvh {
+namespace {
+
+using test::CliRun;
+
+std::string meshes() {
+  const std::string dir = std::string(TIGHTBVH_SOURCE_DIR) + "/meshes/";
+  return dir + "knot1.off " + dir + "elephant.off";
+}
+
+// B moved along x by `dx` (knot1 and elephant are scaled to unit boxes).
+std::string shifted(double dx) { return " --pose \"1 0 0 0 1 0 0 0 1 " + std::to_string(dx) + " 0 0\""; }
+
+TEST(CliDistance, JsonSeparatedAndTouching) {
+  const CliRun far = test::run_cli("distance " + meshes() + shifted(1.5) + " --fitter pca --json");
+  ASSERT_EQ(far.status, 0) << far.err;
+  const auto j = nlohmann::json::parse(far.out);
+  const double d = j["distance"].get<double>();
+  EXPECT_GT(d, 0.0);
+  EXPECT_LT(d, 1.5);
+  EXPECT_FALSE(j["beyond_upper_bound"].get<bool>());
+  const auto a = j["point_a"], b = j["point_b"];
+  double squared = 0;
+  for (int k = 0; k < 3; ++k)
+    squared += (a[k].get<double>() - b[k].get<double>()) * (a[k].get<double>() - b[k].get<double>());
+  EXPECT_NEAR(std::sqrt(squared), d, 1e-12);
+  EXPECT_EQ(j["triangles"].size(), 2u);
+  EXPECT_GT(j["node_pairs"].get<int>(), 0);
+
+  // The same query with an upper bound below the answer: "farther than".
+  const CliRun bounded = test::run_cli("distance " + meshes() + shifted(1.5) + " --fitter pca --json --upper-bound " +
+                                       std::to_string(0.5 * d));
+  ASSERT_EQ(bounded.status, 0) << bounded.err;
+  EXPECT_TRUE(nlohmann::json::parse(bounded.out)["beyond_upper_bound"].get<bool>());
+
+  const CliRun touching = test::run_cli("distance " + meshes() + shifted(0.1) + " --fitter aabb");
+  ASSERT_EQ(touching.status, 0) << touching.err;
+  EXPECT_NE(touching.out.find("distance: 0\n"), std::string::npos) << touching.out;
+
+  // collide --margin: no contact at the far pose, a hit with a margin just above the distance.
+  const CliRun plain = test::run_cli("collide " + meshes() + shifted(1.5) + " --fitter pca --json");
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  EXPECT_FALSE(nlohmann::json::parse(plain.out)["hit"].get<bool>());
+  const CliRun margin = test::run_cli("collide " + meshes() + shifted(1.5) +
+                                      " --fitter pca --json --all-pairs --margin " + std::to_string(1.01 * d));
+  ASSERT_EQ(margin.status, 0) << margin.err;
+  const auto m = nlohmann::json::parse(margin.out);
+  EXPECT_TRUE(m["hit"].get<bool>());
+  EXPECT_NEAR(m["margin"].get<double>(), 1.01 * d, 1e-6);
+}
+
+TEST(CliDistance, BadInputIsOneLineAndNonZeroExit) {
+  for (const std::string& args :
+       {"distance " + meshes() + " --rel-error -1", "distance " + meshes() + " --upper-bound nan",
+        "distance " + meshes() + " --pose \"1 0 0\"", "collide " + meshes() + " --margin -0.1",
+        "distance " + std::string(TIGHTBVH_SOURCE_DIR) + "/meshes/knot1.off /nonexistent.off"}) {
+    const CliRun r = test::run_cli(args + " --fitter aabb");
+    EXPECT_NE(r.status, 0) << args;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
+  }
+}
+
+}  // namespace
+}  // namespace tightbvh

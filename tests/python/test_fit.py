@@ -7,7 +7,8 @@ import pytest
 import tightbvh
 from conftest import tetrahedron
 
-BOX_METHODS = ["aabb", "pca", "pca-vertex", "diameter", "approx", "approx-snap", "exact", "eberly2015"]
+BOX_METHODS = ["aabb", "pca", "pca-vertex", "diameter", "approx", "approx-snap", "exact", "eberly2015",
+               "approx-kernel"]
 CONTAINERS = ["ball", "fast-ball", "ellipsoid", "diamond", "dop14", "dop18", "dop26"]
 
 

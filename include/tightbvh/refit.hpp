@@ -16,9 +16,9 @@ struct RefitOptions {
   // rounding). Every other fitter (and `auto`) fits each node from its corners
   // as build() does. Why pca: README, "Refit (deforming meshes)".
   Fitter fitter = FitMethod::pca;
-  FitOptions fit;       // grid / epsilon / improve of the hull-based fitters
-  unsigned threads = 0; // 0: std::thread::hardware_concurrency(); the result is
-                        // the same for any
+  FitOptions fit;        // grid / epsilon / improve of the hull-based fitters
+  unsigned threads = 0;  // 0: std::thread::hardware_concurrency(); the result is
+                         // the same for any
 };
 
 // Refits every box of `tree` to `mesh`, which must have the triangles the tree
@@ -28,10 +28,9 @@ struct RefitOptions {
 // range), when its triangle count differs from the tree's, or when the tree's
 // structure is broken (child or leaf range out of range, a node reached twice,
 // a triangle listed twice); `tree` is left unchanged then.
-void refit(Tree &tree, const Mesh &mesh, const RefitOptions &options = {});
+void refit(Tree& tree, const Mesh& mesh, const RefitOptions& options = {});
 
 // The same, returning a refitted copy.
-[[nodiscard]] Tree refitted(const Tree &tree, const Mesh &mesh,
-                            const RefitOptions &options = {});
+[[nodiscard]] Tree refitted(const Tree& tree, const Mesh& mesh, const RefitOptions& options = {});
 
-} // namespace tightbvh
+}  // namespace tightbvh

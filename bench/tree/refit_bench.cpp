@@ -1,16 +1,16 @@
-// tightbvh-refit-bench: refit of deforming meshes against FCL's refit, and what
-// refit vs rebuild does to query speed.
+// tightbvh-refit-bench: refit of deforming meshes against FCL's refit, and what refit vs rebuild
+// does to query speed.
 //
-//   tightbvh-refit-bench [MESH...] [--frames F] [--repeats R] [--poses N]
-//   [--no-queries]
-//       per mesh and deformation (a travelling sine wave and a bend, amplitude
-//       growing over F frames): median time per refit of ours (pca fast path,
-//       threads 1 and 2) and of FCL's BVHModel<OBB> / <OBBRSS>
-//       (beginUpdateModel, updateVertex per vertex, endUpdateModel with
-//       bottomup true and false), and the sums of node volumes at the last
-//       frame. Then, at the last frame, first_hit and all_pairs queries/s (one
-//       thread) of the deformed mesh against the undeformed one, "near" poses,
-//       on (a) fresh builds and (b) the refitted tree.
+//   tightbvh-refit-bench [MESH...] [--frames F] [--repeats R] [--poses N] [--no-queries]
+//       per mesh and deformation (a travelling sine wave and a bend, amplitude growing over F
+//       frames): median time per refit of ours (pca fast path, threads 1 and 2) and of FCL's
+//       BVHModel<OBB> / <OBBRSS> (beginUpdateModel, updateVertex per vertex, endUpdateModel with
+//       bottomup true and false), and the sums of node volumes at the last frame. Then, at the
+//       last frame, first_hit and all_pairs queries/s (one thread) of the deformed mesh against
+//       the undeformed one, "near" poses, on (a) fresh builds and (b) refitted trees.
+//   tightbvh-refit-bench --fitters [MESH...] [--frames F] [--repeats R]
+//       time and sum of volumes of refit with pca, pca-vertex, aabb and auto at the last frame,
+//       against rebuilding with pca and auto (the choice of the default refit fitter).
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/math/bv/OBB.h>
 #include <fcl/math/bv/OBBRSS.h>
@@ -249,6 +249,27 @@ void queries(const std::string& mesh_name, const Mesh& rest, Kind kind, int fram
   std::fflush(stdout);
 }
 
+// The refit fitter: CPU time and sum of volumes of refit with each cheap-to-tight fitter, at the
+// last frame, against rebuilding with pca and auto.
+void fitters(const std::string& mesh_name, const Mesh& rest, Kind kind, int frames, int repeats) {
+  const Mesh mesh = deformed(rest, kind, frames - 1, frames);
+  const Tree rest_tree = build(rest, {.threads = 1});
+  for (const Fitter& fitter :
+       {Fitter{FitMethod::pca}, Fitter{FitMethod::pca_vertex}, Fitter{FitMethod::aabb}, Fitter{AutoFit{}}}) {
+    Tree tree = rest_tree;
+    const double s = best_of(repeats, [&] { refit(tree, mesh, {.fitter = fitter, .threads = 1}); });
+    std::printf("| %s | %s | refit %s | %.1f | %.4g |\n", mesh_name.c_str(), name_of(kind), to_string(fitter).c_str(),
+                1e3 * s, tree_stats(tree).sum_volume);
+  }
+  for (const Fitter& fitter : {Fitter{FitMethod::pca}, Fitter{AutoFit{}}}) {
+    Tree tree;
+    const double s = best_of(repeats, [&] { tree = build(mesh, {.fitter = fitter, .threads = 1}); });
+    std::printf("| %s | %s | rebuild %s | %.1f | %.4g |\n", mesh_name.c_str(), name_of(kind), to_string(fitter).c_str(),
+                1e3 * s, tree_stats(tree).sum_volume);
+  }
+  std::fflush(stdout);
+}
+
 std::vector<std::filesystem::path> default_meshes() {
   const std::filesystem::path root = TIGHTBVH_SOURCE_DIR;
   std::vector<std::filesystem::path> out;
@@ -264,6 +285,7 @@ struct Options {
   std::vector<std::filesystem::path> meshes;
   int frames = 20, repeats = 3, poses = 200;
   bool queries = true;
+  bool fitters = false;  // only the table of refit fitters
 };
 
 Options parse(int argc, char** argv) {
@@ -284,6 +306,8 @@ Options parse(int argc, char** argv) {
       o.poses = next();
     else if (a == "--no-queries")
       o.queries = false;
+    else if (a == "--fitters")
+      o.fitters = true;
     else if (a.rfind("--", 0) == 0)
       throw std::runtime_error("unknown option " + a);
     else
@@ -297,6 +321,16 @@ Options parse(int argc, char** argv) {
 
 int main(int argc, char** argv) try {
   const Options o = parse(argc, argv);
+  std::vector<std::pair<std::string, Mesh>> meshes;
+  for (const auto& path : o.meshes) meshes.emplace_back(path.filename().string(), load_mesh(path));
+  if (o.fitters) {
+    std::printf("refit fitters at the last frame (rest-pose default tree), CPU ms of one thread, best of %d\n\n",
+                o.repeats);
+    std::printf("| mesh | deformation | what | ms | sum vol |\n|---|---|---|---|---|\n");
+    for (const auto& [name, rest] : meshes)
+      for (const Kind kind : {Kind::sine, Kind::bend}) fitters(name, rest, kind, o.frames, o.repeats);
+    return 0;
+  }
   std::printf(
       "refit: median over %d frames of the best of %d runs, CPU time of the thread (T2: wall clock, 2 threads); "
       "ours = refit(tree, mesh), default pca fitter, of a rest-pose default (auto) tree; FCL: beginUpdateModel, "
@@ -309,8 +343,6 @@ int main(int argc, char** argv) try {
       "| vol FCL OBB down / ours | vol rebuild pca / ours | vol rebuild auto / ours "
       "| bad FCL OBB up / down / OBBRSS up | ours valid |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-  std::vector<std::pair<std::string, Mesh>> meshes;
-  for (const auto& path : o.meshes) meshes.emplace_back(path.filename().string(), load_mesh(path));
   for (const auto& [name, rest] : meshes)
     for (const Kind kind : {Kind::sine, Kind::bend}) {
       Tree tree = build(rest, {.threads = 1});

@@ -52,8 +52,7 @@ double median(std::vector<double> v) {
 enum class Kind { sine, bend };
 const char* name_of(Kind k) { return k == Kind::sine ? "sine wave" : "bend"; }
 
-// Frame f of `frames` (amplitude growing linearly to its maximum at the last
-// frame):
+// Frame f of `frames` (amplitude growing linearly to its maximum at the last frame):
 //   sine: y += a sin(2 pi (2 x / extent - f / frames)), a up to 15% of the x
 //   extent (travelling); bend: around the z axis, x becoming an arc of up to
 //   270 degrees.
@@ -109,8 +108,7 @@ struct FclModel {
     return sum;
   }
 
-  // Nodes whose OBB misses a corner of one of their triangles (relative
-  // tolerance 1e-9).
+  // Nodes whose OBB misses a corner of one of their triangles (relative tolerance 1e-9).
   [[nodiscard]] std::size_t nodes_not_containing(const Mesh& mesh) const {
     std::size_t bad = 0;
     std::vector<std::uint32_t> triangles;
@@ -137,8 +135,7 @@ struct FclModel {
   }
 };
 
-// ------------------------------------------------------------------ refit
-// timing
+// ------------------------------------------------------------------ refit timing
 
 struct Timings {
   std::vector<double> ours_t1, ours_t2, obb_up, obb_down, obbrss_up, obbrss_down;
@@ -164,9 +161,9 @@ double best_of(int repeats, Fn&& fn, bool wall = false) {
   return best;
 }
 
-// FCL's refit fits previous and current vertices together (a swept box, for
-// continuous collision); the volumes are read after a second, untimed update
-// with the same vertices, so both libraries' boxes bound the same frame.
+// FCL's refit fits previous and current vertices together (a swept box, for continuous collision);
+// the volumes are read after a second, untimed update with the same vertices, so both libraries'
+// boxes bound the same frame.
 template <class BV>
 void fcl_frame(FclModel<BV>& model, const Mesh& mesh, bool bottomup, int repeats, std::vector<double>& times) {
   times.push_back(best_of(repeats, [&] { model.refit(mesh, bottomup); }));
@@ -201,8 +198,7 @@ LastFrame run_frames(const Mesh& rest, Kind kind, int frames, int repeats, Tree&
   return last;
 }
 
-// ------------------------------------------------------------------ queries
-// after the deformation
+// ------------------------------------------------------------------ queries after the deformation
 
 struct QueryRow {
   std::string tree;

@@ -37,20 +37,18 @@ template <class... Parts>
   throw InputError(out.str());
 }
 
-// ------------------------------------------------------------------ the tree's
-// layout
+// ------------------------------------------------------------------ the tree's layout
 
-// Every node's range, and the split of the work: subtrees of at most `grain`
-// triangles are one task each; the nodes above them ("top" nodes) are fitted
-// level by level, deepest first.
+// Every node's range, and the split of the work: subtrees of at most `grain` triangles are one task
+// each; the nodes above them ("top" nodes) are fitted level by level, deepest first.
 struct Layout {
   std::vector<Range> ranges;                   // per node
   std::vector<Index> tasks;                    // subtree roots, largest first
   std::vector<std::vector<Index>> top_levels;  // top nodes by depth, the root's level first
 };
 
-// Nodes in preorder from the root, each reached once; throws on a child out of
-// range or a node reached twice (a cycle or a shared child).
+// Nodes in preorder from the root, each reached once; throws on a child out of range or a node
+// reached twice (a cycle or a shared child).
 std::vector<Index> preorder(const Tree& tree) {
   const auto& nodes = tree.nodes;
   if (nodes.empty()) fail("the tree has no nodes");
@@ -76,9 +74,8 @@ std::vector<Index> preorder(const Tree& tree) {
   return order;
 }
 
-// Ranges bottom up (reverse preorder: children before parents); checks that
-// leaves stay inside triangle_order, that siblings' ranges are adjacent and
-// that the root covers all triangles.
+// Ranges bottom up (reverse preorder: children before parents); checks that leaves stay inside
+// triangle_order, that siblings' ranges are adjacent and that the root covers all triangles.
 std::vector<Range> node_ranges(const Tree& tree, const std::vector<Index>& order) {
   const auto& nodes = tree.nodes;
   const std::size_t n = tree.triangle_order.size();
@@ -102,12 +99,12 @@ std::vector<Range> node_ranges(const Tree& tree, const std::vector<Index>& order
 }
 
 // The fast case: trees from build() number children after their parent. Then one backward pass
-// gives every range, and "every node but the root is the child of exactly one node" (checked)
-// rules out cycles and orphans. nullopt when the tree is not of that kind or is broken: the
-// general walk above then finds the error and names it.
+// gives every range, and "every node but the root is the child of exactly one node" (checked) rules
+// out cycles and orphans. nullopt when the tree is not of that kind or is broken: the general walk
+// above then finds the error and names it.
 std::optional<std::vector<Range>> ranges_if_children_follow_parents(const Tree& tree) {
-  // One backward pass: the node array is large (128 bytes a node) and reading it is most of
-  // the cost here.
+  // One backward pass: the node array is large (128 bytes a node) and reading it is most of the
+  // cost here.
   const auto& nodes = tree.nodes;
   const std::size_t n = tree.triangle_order.size();
   if (nodes.empty() || nodes.size() > std::numeric_limits<Index>::max()) return std::nullopt;
@@ -131,9 +128,8 @@ std::optional<std::vector<Range>> ranges_if_children_follow_parents(const Tree& 
   return ranges;
 }
 
-// Subtrees at most this large are one task. It depends on the triangle count
-// only, never on the thread count (as the builder's task grain), though here
-// any split gives the same boxes.
+// Subtrees at most this large are one task. It depends on the triangle count only, never on the
+// thread count (as the builder's task grain), though here any split gives the same boxes.
 [[nodiscard]] Index task_grain(std::size_t triangles) {
   return static_cast<Index>(std::max<std::size_t>(1024, triangles / 128));
 }
@@ -178,16 +174,15 @@ Layout layout_of(const Tree& tree, const Mesh& mesh) {
   return layout;
 }
 
-// ------------------------------------------------------------------ the fast
-// pca path
+// ------------------------------------------------------------------ the fast pca path
 
 // The sums pca_triangle_axes and pca_vertex_axes (src/fit/pca.cpp) accumulate, relative to
 // `origin`: for the triangles of positive area, A = sum(area), first = sum(area (p + q + r)),
-// second = sum(area / 12 (s s^T + p p^T + q q^T + r r^T)) with s = p + q + r (Gottschalk's
-// thesis, eq. 3.5 ff.); for pca-vertex, the corners' count, sum and sum of outer products. Sums
-// are additive: a node's moments are its children's, shifted to its origin, which makes a node's
-// axes O(1) instead of O(triangles).
-// A symmetric 3x3 matrix by its six entries: the sums below are all symmetric.
+// second = sum(area / 12 (s s^T + p p^T + q q^T + r r^T)) with s = p + q + r (Gottschalk's thesis,
+// eq. 3.5 ff.); for pca-vertex, the corners' count, sum and sum of outer products. Sums are
+// additive: a node's moments are its children's, shifted to its origin, which makes a node's axes
+// O(1) instead of O(triangles). A symmetric 3x3 matrix by its six entries: the sums below are all
+// symmetric.
 struct Sym {
   double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
 
@@ -282,8 +277,7 @@ class PcaKernel {
     return m;
   }
 
-  // The left child's origin is the parent's (both start at range.begin): only
-  // the right one moves.
+  // The left child's origin is the parent's (both start at range.begin): only the right one moves.
   Value internal(Node& node, Range range, Value left, const Value& right, Scratch& /*scratch*/) const {
     left.add(right, corners_only_);
     node.box = box(left, range);
@@ -297,8 +291,8 @@ class PcaKernel {
 
   [[nodiscard]] Obb box(const Moments& m, Range range) const {
     const auto corners = corners_.subspan(3 * std::size_t{range.begin}, 3 * std::size_t{range.size()});
-    // Zero total area: pca_triangle_axes falls back to the corners' covariance (rare: computed
-    // from the node's corners rather than carried up the tree).
+    // Zero total area: pca_triangle_axes falls back to the corners' covariance (rare: computed from
+    // the node's corners rather than carried up the tree).
     const Mat3 axes = corners_only_  ? fit_detail::principal_axes(m.corner_covariance())
                       : m.area > 0.0 ? fit_detail::principal_axes(m.area_covariance())
                                      : fit_detail::pca_vertex_axes(corners, m.origin);
@@ -309,14 +303,12 @@ class PcaKernel {
   bool corners_only_;
 };
 
-// ------------------------------------------------------------------ any other
-// fitter
+// ------------------------------------------------------------------ any other fitter
 
 struct NoValue {};
 
-// Each node fitted from its corners, with the builder's rules (build.cpp,
-// Builder::fit): the closed-form box for one triangle, `auto`'s threshold and
-// its AABB alternative.
+// Each node fitted from its corners, with the builder's rules (build.cpp, Builder::fit): the
+// closed-form box for one triangle, `auto`'s threshold and its AABB alternative.
 class FitKernel {
  public:
   using Value = NoValue;
@@ -368,8 +360,8 @@ struct Worker {
   std::vector<typename Kernel::Value> values;
 };
 
-// Fits the subtree under `root` children first (an explicit stack: RAPID trees
-// can be deep); returns the root's value.
+// Fits the subtree under `root` children first (an explicit stack: RAPID trees can be deep);
+// returns the root's value.
 template <class Kernel>
 typename Kernel::Value fit_subtree(const Kernel& kernel, Index root, const Layout& layout, Tree& tree,
                                    Worker<Kernel>& w) {
@@ -419,9 +411,8 @@ void refit_with(const Kernel& kernel, const Layout& layout, unsigned threads, Tr
   }
 }
 
-// Corners in triangle_order's order: position p holds triangle
-// triangle_order[p], so every node's corners are one contiguous span (as in the
-// builder).
+// Corners in triangle_order's order: position p holds triangle triangle_order[p], so every node's
+// corners are one contiguous span (as in the builder).
 std::vector<Vec3> ordered_corners(const Tree& tree, const Mesh& mesh) {
   std::vector<Vec3> corners(3 * tree.triangle_order.size());
   for (std::size_t p = 0; p < tree.triangle_order.size(); ++p) {

@@ -21,11 +21,9 @@ namespace {
 
 Mesh load_relative(const std::string& relative) { return load_mesh(test::source_dir() / relative); }
 
-// ------------------------------------------------------------------
-// deformations (unit-box meshes)
+// ------------------------------------------------------------------ deformations (unit-box meshes)
 
-// Bends the mesh around the z axis: x becomes an arc of `angle` radians over
-// the mesh's x extent.
+// Bends the mesh around the z axis: x becomes an arc of `angle` radians over the mesh's x extent.
 Mesh bent(Mesh mesh, double angle) {
   const Aabb bounds = bounds_of(mesh.vertices);
   const double length = bounds.max.x() - bounds.min.x();
@@ -39,8 +37,7 @@ Mesh bent(Mesh mesh, double angle) {
   return mesh;
 }
 
-// y += amplitude * sin(2 pi waves x / extent): a travelling wave through the
-// mesh.
+// y += amplitude * sin(2 pi waves x / extent): a travelling wave through the mesh.
 Mesh sine_wave(Mesh mesh, double amplitude, double waves) {
   const Aabb bounds = bounds_of(mesh.vertices);
   const double length = bounds.max.x() - bounds.min.x();
@@ -110,11 +107,9 @@ void expect_same_topology(const Tree& a, const Tree& b) {
   }
 }
 
-// ------------------------------------------------------------------
-// undeformed: the builder's boxes
+// ------------------------------------------------------------------ undeformed: the builder's boxes
 
-// aabb boxes do not depend on the order of the corners: refit reproduces the
-// build bit for bit.
+// aabb boxes do not depend on the order of the corners: refit reproduces the build bit for bit.
 TEST(Refit, UndeformedAabbEqualsBuildBitForBit) {
   const Mesh mesh = load_relative("meshes/elephant.off");
   const Tree built = build_with(mesh, FitMethod::aabb);
@@ -124,9 +119,9 @@ TEST(Refit, UndeformedAabbEqualsBuildBitForBit) {
     EXPECT_TRUE(same_bits(built.nodes[i].box, tree.nodes[i].box)) << i;
 }
 
-// pca: the fast path sums the moments bottom up, the builder per node in another corner order;
-// the boxes agree to rounding (axes up to sign), and single-triangle leaves bit for bit. Meshes
-// without nodes of tied eigenvalues (fandisk has some: there rounding picks the axes).
+// pca: the fast path sums the moments bottom up, the builder per node in another corner order; the
+// boxes agree to rounding (axes up to sign), and single-triangle leaves bit for bit. Meshes without
+// nodes of tied eigenvalues (fandisk has some: there rounding picks the axes).
 void expect_pca_boxes_match(const Mesh& mesh, FitMethod method) {
   const Tree built = build_with(mesh, method);
   const Tree tree = refitted(built, mesh, with(method));
@@ -159,8 +154,8 @@ TEST(Refit, UndeformedPcaVertexMatchesBuild) {
   expect_pca_boxes_match(load_relative("meshes/elephant.off"), FitMethod::pca_vertex);
 }
 
-// The generic path (every node fitted from its corners) with a hull-based
-// fitter: the same sum of volumes as the build, to rounding.
+// The generic path (every node fitted from its corners) with a hull-based fitter: the same sum of
+// volumes as the build, to rounding.
 TEST(Refit, UndeformedApproxMatchesBuildVolume) {
   const Mesh mesh = test::first_triangles(load_relative("meshes/knot1.off"), 1500);
   const Tree built = build_with(mesh, FitMethod::approx);
@@ -170,8 +165,7 @@ TEST(Refit, UndeformedApproxMatchesBuildVolume) {
   EXPECT_NEAR(got, want, 1e-3 * want);
 }
 
-// ------------------------------------------------------------------ deformed:
-// valid trees
+// ------------------------------------------------------------------ deformed: valid trees
 
 void expect_valid_refits(const Mesh& mesh, const Fitter& fitter, std::uint32_t leaf_size = 1) {
   const Tree built = build_with(mesh, fitter, leaf_size);
@@ -204,8 +198,8 @@ TEST(RefitValidate, OtherFittersAndLeafSizes) {
   expect_valid_refits(small, AutoFit{.tight_min_triangles = 200});
 }
 
-// A tree built over a large mesh has top levels above the task grain (1024
-// triangles here): those are fitted level by level, on both threads.
+// A tree built over a large mesh has top levels above the task grain (1024 triangles here): those
+// are fitted level by level, on both threads.
 TEST(RefitValidate, LargeMeshAcrossTaskGrain) {
   const Mesh mesh = subdivide_midpoints(load_relative("meshes/knot1.off"));
   const Tree built = build_with(mesh, FitMethod::pca);
@@ -217,8 +211,7 @@ TEST(RefitValidate, LargeMeshAcrossTaskGrain) {
   for (std::size_t i = 0; i < one.nodes.size(); ++i) ASSERT_TRUE(same_bits(one.nodes[i].box, two.nodes[i].box)) << i;
 }
 
-// Degenerate triangles (zero area, repeated vertices) go through pca's
-// corner-covariance fallback.
+// Degenerate triangles (zero area, repeated vertices) go through pca's corner-covariance fallback.
 TEST(RefitValidate, DegenerateTriangles) {
   Mesh mesh = load_relative("meshes/elephant.off");
   for (std::size_t t = 0; t < mesh.triangles.size(); t += 7) mesh.triangles[t][1] = mesh.triangles[t][0];
@@ -232,8 +225,7 @@ TEST(RefitValidate, DegenerateTriangles) {
   }
 }
 
-// ------------------------------------------------------------------ queries on
-// refitted trees
+// ------------------------------------------------------------------ queries on refitted trees
 
 TEST(RefitCollide, SamePairsAsBruteForce) {
   const Mesh a = test::first_triangles(load_relative("meshes/elephant.off"), 1500);

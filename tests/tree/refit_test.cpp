@@ -184,7 +184,7 @@ void expect_valid_refits(const Mesh& mesh, const Fitter& fitter, std::uint32_t l
 }
 
 TEST(RefitValidate, PcaOnShippedMeshes) {
-  for (const char* name : {"meshes/elephant.off", "meshes/knot1.off", "meshes/camel.off"})
+  for (const char* name : {"meshes/elephant.off", "meshes/knot1.off"})
     expect_valid_refits(load_relative(name), FitMethod::pca);
 }
 
@@ -193,9 +193,9 @@ TEST(RefitValidate, OtherFittersAndLeafSizes) {
   expect_valid_refits(mesh, FitMethod::pca, 4);
   expect_valid_refits(mesh, FitMethod::pca_vertex);
   expect_valid_refits(mesh, FitMethod::aabb, 3);
-  const Mesh small = test::first_triangles(mesh, 1200);
+  const Mesh small = test::first_triangles(mesh, 400);
   expect_valid_refits(small, FitMethod::approx);
-  expect_valid_refits(small, AutoFit{.tight_min_triangles = 200});
+  expect_valid_refits(small, AutoFit{.tight_min_triangles = 100});
 }
 
 // A tree built over a large mesh has top levels above the task grain (1024 triangles here): those
@@ -228,8 +228,8 @@ TEST(RefitValidate, DegenerateTriangles) {
 // ------------------------------------------------------------------ queries on refitted trees
 
 TEST(RefitCollide, SamePairsAsBruteForce) {
-  const Mesh a = test::first_triangles(load_relative("meshes/elephant.off"), 1500);
-  const Mesh b = test::first_triangles(load_relative("meshes/knot1.off"), 1500);
+  const Mesh a = test::first_triangles(load_relative("meshes/elephant.off"), 1000);
+  const Mesh b = test::first_triangles(load_relative("meshes/knot1.off"), 1000);
   const Tree tree_a = build_with(a, FitMethod::pca);
   const Tree tree_b = build(b, {.fitter = FitMethod::pca, .threads = 1});
   std::mt19937_64 rng(7);
@@ -238,7 +238,7 @@ TEST(RefitCollide, SamePairsAsBruteForce) {
   for (const Deformation& d : deformations(a)) {
     if (d.name == "rigid motion") continue;  // moved far away: nothing to find
     const Tree refit_a = refitted(tree_a, d.mesh);
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < 2; ++k) {
       Pose pose_b = random_pose(rng);
       pose_b.translation = bounds_of(d.mesh.vertices).center() + Vec3(shift(rng), shift(rng), shift(rng));
       SCOPED_TRACE(d.name + ", pose " + std::to_string(k));
@@ -250,7 +250,7 @@ TEST(RefitCollide, SamePairsAsBruteForce) {
       hits += want.hit;
     }
   }
-  EXPECT_GE(hits, 5);  // the poses do test something
+  EXPECT_GE(hits, 3);  // the poses do test something
 }
 
 // ------------------------------------------------------------------ errors

@@ -13,6 +13,7 @@
 
 #include "parallel.hpp"
 #include "splitter.hpp"
+#include "node_fit.hpp"
 
 namespace tightbvh {
 
@@ -36,32 +37,6 @@ std::vector<std::string_view> fitter_names() {
 namespace {
 
 using Index = std::uint32_t;
-
-// The box of a single non-degenerate triangle: axes = longest edge, in-plane normal to it,
-// triangle normal (right-handed); nullopt for a degenerate triangle (left to the fitter).
-[[nodiscard]] std::optional<Obb> triangle_box(const std::array<Vec3, 3>& c) {
-  const Vec3 edges[3] = {c[1] - c[0], c[2] - c[1], c[0] - c[2]};
-  const double len2[3] = {edges[0].squaredNorm(), edges[1].squaredNorm(), edges[2].squaredNorm()};
-  const int longest = len2[0] >= len2[1] ? (len2[0] >= len2[2] ? 0 : 2) : (len2[1] >= len2[2] ? 1 : 2);
-  const Vec3 normal = edges[0].cross(edges[1]);
-  const double normal_norm = normal.norm();
-  // Degenerate (zero or tiny area relative to the edges): the fitter handles it robustly.
-  if (!(normal_norm > 1e-12 * len2[longest])) return std::nullopt;
-  Obb box;
-  box.axes.col(0) = edges[longest] / std::sqrt(len2[longest]);
-  box.axes.col(2) = normal / normal_norm;
-  box.axes.col(1) = box.axes.col(2).cross(box.axes.col(0));
-  const Vec3 origin = c[0];
-  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // c[0] is at the local origin
-  for (int i = 1; i < 3; ++i) {
-    const Vec3 q = box.axes.transpose() * (c[i] - origin);
-    lo = lo.cwiseMin(q);
-    hi = hi.cwiseMax(q);
-  }
-  box.half_extents = 0.5 * (hi - lo);
-  box.center = origin + box.axes * (0.5 * (hi + lo));
-  return box;
-}
 
 // Whether the fitter may run `method` on some node.
 [[nodiscard]] bool uses(const Fitter& fitter, FitMethod method) {
@@ -131,13 +106,6 @@ class Builder {
   }
 
  private:
-  [[nodiscard]] FitMethod method_for(Index count) const {
-    if (const auto* method = std::get_if<FitMethod>(&options_.fitter)) return *method;
-    const AutoFit& a = std::get<AutoFit>(options_.fitter);
-    if (count >= a.tight_min_triangles) return a.tight;
-    return count >= a.medium_min_triangles ? a.medium : a.cheap;
-  }
-
   // The distinct mesh vertices of the node's triangles (positions [begin, end) of order_).
   std::span<const Vec3> node_vertices(Index begin, Index end, Scratch& scratch) const {
     auto& stamp = scratch.vertex_stamp;
@@ -156,28 +124,11 @@ class Builder {
   }
 
   [[nodiscard]] Obb fit(Index begin, Index end, Scratch& scratch) const {
-    const FitMethod method = method_for(end - begin);
     const auto corners = std::span<const Vec3>(corners_).subspan(3 * std::size_t{begin}, 3 * std::size_t{end - begin});
-    if (end - begin == 1 && method != FitMethod::aabb) {
-      // One triangle: its minimum-volume box is flat, with its rectangle flush with the longest
-      // edge (the minimum-area rectangle of a triangle). No fitter can do better, and it costs
-      // no eigen-decomposition on half of the nodes. FCL's OBB fit3 does the same.
-      if (const auto box = triangle_box({corners[0], corners[1], corners[2]})) return *box;
-    }
-    FitOptions fit = options_.fit;
-    fit.method = method;
-    // pca needs only the corners; the hull-based fitters work on the distinct vertices.
-    Obb box = method == FitMethod::pca || method == FitMethod::pca_vertex
-                  ? fit_triangles(corners, fit, scratch.fit)
-                  : fit_triangles(corners, node_vertices(begin, end, scratch), fit, scratch.fit);
-    if (const auto* a = std::get_if<AutoFit>(&options_.fitter); a && a->or_aabb && method != FitMethod::aabb) {
-      // The axis-aligned box costs one pass and is often the smaller one (axis-aligned CAD
-      // parts, nodes with a near-isotropic covariance where the PCA axes are arbitrary).
-      fit.method = FitMethod::aabb;
-      if (const Obb aabb = fit_triangles(corners, fit, scratch.fit); aabb.volume() < box.volume()) box = aabb;
-    }
-    return box;
+    return detail::fit_node(corners, options_.fitter, options_.fit, scratch.fit,
+                            [&] { return node_vertices(begin, end, scratch); });
   }
+
 
   const Mesh& mesh_;
   const BuildOptions& options_;

@@ -1,0 +1,84 @@
+#pragma once
+// Internal (builder and refit): how one node's box is fitted, so that a refitted tree gets exactly
+// the boxes the builder gives it: the closed-form box of one triangle, the fitter's method for
+// the node's size, and `auto`'s AABB alternative.
+#include <array>
+#include <cmath>
+#include <optional>
+
+#include <span>
+#include <variant>
+
+#include "tightbvh/build.hpp"
+#include "tightbvh/fit.hpp"
+#include "tightbvh/obb.hpp"
+
+namespace tightbvh::detail {
+
+// The box of a single non-degenerate triangle: axes = longest edge, in-plane normal to it, triangle
+// normal (right-handed); nullopt for a degenerate triangle (left to the fitter).
+[[nodiscard]] inline std::optional<Obb> triangle_box(const std::array<Vec3, 3>& c) {
+  const Vec3 edges[3] = {c[1] - c[0], c[2] - c[1], c[0] - c[2]};
+  const double len2[3] = {edges[0].squaredNorm(), edges[1].squaredNorm(), edges[2].squaredNorm()};
+  const int longest = len2[0] >= len2[1] ? (len2[0] >= len2[2] ? 0 : 2) : (len2[1] >= len2[2] ? 1 : 2);
+  const Vec3 normal = edges[0].cross(edges[1]);
+  const double normal_norm = normal.norm();
+  // Degenerate (zero or tiny area relative to the edges): the fitter handles it robustly.
+  if (!(normal_norm > 1e-12 * len2[longest])) return std::nullopt;
+  Obb box;
+  box.axes.col(0) = edges[longest] / std::sqrt(len2[longest]);
+  box.axes.col(2) = normal / normal_norm;
+  box.axes.col(1) = box.axes.col(2).cross(box.axes.col(0));
+  const Vec3 origin = c[0];
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // c[0] is at the local origin
+  for (int i = 1; i < 3; ++i) {
+    const Vec3 q = box.axes.transpose() * (c[i] - origin);
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  box.half_extents = 0.5 * (hi - lo);
+  box.center = origin + box.axes * (0.5 * (hi + lo));
+  return box;
+}
+
+// The method a fitter runs on a node of `triangles` triangles.
+[[nodiscard]] inline FitMethod method_for(const Fitter& fitter, std::size_t triangles) {
+  if (const auto* method = std::get_if<FitMethod>(&fitter)) return *method;
+  const AutoFit& a = std::get<AutoFit>(fitter);
+  if (triangles >= a.tight_min_triangles) return a.tight;
+  return triangles >= a.medium_min_triangles ? a.medium : a.cheap;
+}
+
+// The box of a node given by its triangles' corners (three per triangle). `vertices()` returns
+// the node's distinct vertices (or an empty span when the caller has none): the hull-based
+// fitters work on them, pca on the corners; it is only called when needed.
+template <class Vertices>
+[[nodiscard]] Obb fit_node(std::span<const Vec3> corners, const Fitter& fitter, const FitOptions& options,
+                           FitWorkspace& workspace, Vertices&& vertices) {
+  const std::size_t triangles = corners.size() / 3;
+  const FitMethod method = method_for(fitter, triangles);
+  if (triangles == 1 && method != FitMethod::aabb) {
+    // One triangle: its minimum-volume box is flat, with its rectangle flush with the longest
+    // edge (the minimum-area rectangle of a triangle). No fitter can do better, and it costs no
+    // eigen-decomposition on half of the nodes. FCL's OBB fit3 does the same.
+    if (const auto box = triangle_box({corners[0], corners[1], corners[2]})) return *box;
+  }
+  FitOptions fit = options;
+  fit.method = method;
+  Obb box;
+  if (method == FitMethod::pca || method == FitMethod::pca_vertex) {
+    box = fit_triangles(corners, fit, workspace);
+  } else {
+    const std::span<const Vec3> distinct = vertices();
+    box = distinct.empty() ? fit_triangles(corners, fit, workspace) : fit_triangles(corners, distinct, fit, workspace);
+  }
+  if (const auto* a = std::get_if<AutoFit>(&fitter); a && a->or_aabb && method != FitMethod::aabb) {
+    // The axis-aligned box costs one pass and is often the smaller one (axis-aligned CAD parts,
+    // nodes with a near-isotropic covariance where the PCA axes are arbitrary).
+    fit.method = FitMethod::aabb;
+    if (const Obb aabb = fit_triangles(corners, fit, workspace); aabb.volume() < box.volume()) box = aabb;
+  }
+  return box;
+}
+
+}  // namespace tightbvh::detail

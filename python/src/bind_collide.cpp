@@ -26,10 +26,15 @@ PyResult to_python(const QueryResult& r) {
   return {r.hit, std::move(pairs), r.stats};
 }
 
-QueryOptions query_options(bool all_pairs) { return {.mode = all_pairs ? QueryMode::all_pairs : QueryMode::first_hit}; }
+QueryOptions query_options(bool all_pairs, double margin) {
+  QueryOptions options;
+  options.mode = all_pairs ? QueryMode::all_pairs : QueryMode::first_hit;
+  options.margin = margin;  // checked by the query (InputError -> ValueError)
+  return options;
+}
 
 PyResult collide_py(const PyTree& tree_a, py::handle mesh_a, py::handle pose_a, const PyTree& tree_b, py::handle mesh_b,
-                    py::handle pose_b, bool all_pairs) {
+                    py::handle pose_b, bool all_pairs, double margin) {
   const std::shared_ptr<const Mesh> ma = mesh_for(tree_a, mesh_a, "mesh_a");
   const std::shared_ptr<const Mesh> mb = mesh_for(tree_b, mesh_b, "mesh_b");
   const Pose pa = to_pose(pose_a, "pose_a");
@@ -37,13 +42,14 @@ PyResult collide_py(const PyTree& tree_a, py::handle mesh_a, py::handle pose_a, 
   QueryResult result;
   {
     const py::gil_scoped_release release;
-    result = collide(tree_a.tree, *ma, pa, tree_b.tree, *mb, pb, query_options(all_pairs));
+    result = collide(tree_a.tree, *ma, pa, tree_b.tree, *mb, pb, query_options(all_pairs, margin));
   }
   return to_python(result);
 }
 
 py::tuple collide_batch_py(const PyTree& tree_a, py::handle mesh_a, py::handle pose_a, const PyTree& tree_b,
-                           py::handle mesh_b, py::handle poses_b, bool all_pairs, py::handle threads_object) {
+                           py::handle mesh_b, py::handle poses_b, bool all_pairs, py::handle threads_object,
+                           double margin) {
   const std::shared_ptr<const Mesh> ma = mesh_for(tree_a, mesh_a, "mesh_a");
   const std::shared_ptr<const Mesh> mb = mesh_for(tree_b, mesh_b, "mesh_b");
   const Pose pa = to_pose(pose_a, "pose_a");
@@ -56,7 +62,7 @@ py::tuple collide_batch_py(const PyTree& tree_a, py::handle mesh_a, py::handle p
   std::vector<QueryResult> results;
   {
     const py::gil_scoped_release release;
-    results = collide_batch(tree_a.tree, *ma, pa, tree_b.tree, *mb, poses, query_options(all_pairs),
+    results = collide_batch(tree_a.tree, *ma, pa, tree_b.tree, *mb, poses, query_options(all_pairs, margin),
                             static_cast<unsigned>(threads));
   }
   const auto n = static_cast<py::ssize_t>(results.size());
@@ -71,7 +77,8 @@ py::tuple collide_batch_py(const PyTree& tree_a, py::handle mesh_a, py::handle p
   return py::make_tuple(hits, counts);
 }
 
-PyResult brute_force_py(py::handle mesh_a, py::handle pose_a, py::handle mesh_b, py::handle pose_b, bool all_pairs) {
+PyResult brute_force_py(py::handle mesh_a, py::handle pose_a, py::handle mesh_b, py::handle pose_b, bool all_pairs,
+                        double margin) {
   const std::shared_ptr<const Mesh> ma = to_mesh(mesh_a, "mesh_a");
   const std::shared_ptr<const Mesh> mb = to_mesh(mesh_b, "mesh_b");
   const Pose pa = to_pose(pose_a, "pose_a");
@@ -79,7 +86,7 @@ PyResult brute_force_py(py::handle mesh_a, py::handle pose_a, py::handle mesh_b,
   QueryResult result;
   {
     const py::gil_scoped_release release;
-    result = collide_brute_force(*ma, pa, *mb, pb, query_options(all_pairs));
+    result = collide_brute_force(*ma, pa, *mb, pb, query_options(all_pairs, margin));
   }
   return to_python(result);
 }
@@ -103,15 +110,17 @@ void bind_collide(py::module_& m) {
                " pairs=" + std::to_string(r.pairs.shape(0)) + ">";
       });
   m.def("collide", &collide_py, py::arg("tree_a"), py::arg("mesh_a"), py::arg("pose_a"), py::arg("tree_b"),
-        py::arg("mesh_b"), py::arg("pose_b"), py::arg("all_pairs") = false,
+        py::arg("mesh_b"), py::arg("pose_b"), py::arg("all_pairs") = false, py::arg("margin") = 0.0,
         "Touching triangle pairs of A at pose_a and B at pose_b (poses: 4x4, (R, t) or None for the identity; "
-        "a mesh of None means the tree's own). first hit by default; all_pairs=True: every pair, sorted.");
+        "a mesh of None means the tree's own). first hit by default; all_pairs=True: every pair, sorted. "
+        "margin > 0: the pairs at distance <= margin (the safety margin of collide.hpp).");
   m.def("collide_batch", &collide_batch_py, py::arg("tree_a"), py::arg("mesh_a"), py::arg("pose_a"), py::arg("tree_b"),
         py::arg("mesh_b"), py::arg("poses"), py::arg("all_pairs") = false, py::arg("threads") = 0,
+        py::arg("margin") = 0.0,
         "One query per pose of B ((N, 4, 4) or (Rs (N, 3, 3), ts (N, 3))), on `threads` threads (0: all cores). "
         "Returns (hits (N,) bool, pair_counts (N,) int64), identical for any thread count.");
   m.def("collide_brute_force", &brute_force_py, py::arg("mesh_a"), py::arg("pose_a"), py::arg("mesh_b"),
-        py::arg("pose_b"), py::arg("all_pairs") = false,
+        py::arg("pose_b"), py::arg("all_pairs") = false, py::arg("margin") = 0.0,
         "The reference: every triangle pair tested, the same predicate and arithmetic as collide() (for small "
         "meshes and tests).");
 }

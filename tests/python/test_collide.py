@@ -173,3 +173,19 @@ def test_query_input_errors(elephant, knot, trees):
         tightbvh.collide(elephant, elephant, None, trees[1], knot, None)
     with pytest.raises(TypeError, match="mesh_b: expected a tightbvh.Mesh"):
         tightbvh.collide(trees[0], None, None, trees[1], "knot", None)
+
+
+def test_margin_equals_brute_force_and_contains_the_touching_pairs():
+    a, b = small_meshes()
+    ta, tb = tightbvh.build(a), tightbvh.build(b)
+    pose = pose_matrix(rotation([0, 1, 1], 0.4), [0.3, 0.0, 0.0])
+    touching = tightbvh.collide(ta, a, None, tb, b, pose, all_pairs=True)
+    near = tightbvh.collide(ta, a, None, tb, b, pose, all_pairs=True, margin=0.05)
+    reference = tightbvh.collide_brute_force(a, None, b, pose, all_pairs=True, margin=0.05)
+    assert near.pairs.tolist() == reference.pairs.tolist()
+    assert set(map(tuple, touching.pairs.tolist())) <= set(map(tuple, near.pairs.tolist()))
+    assert len(near.pairs) > len(touching.pairs)
+    hits, counts = tightbvh.collide_batch(ta, a, None, tb, b, [pose], all_pairs=True, margin=0.05)
+    assert hits.tolist() == [True] and counts.tolist() == [len(near.pairs)]
+    with pytest.raises(ValueError, match="margin"):
+        tightbvh.collide(ta, a, None, tb, b, pose, margin=-1.0)

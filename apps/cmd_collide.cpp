@@ -29,6 +29,26 @@ Pose parse_pose_option(const std::string& text) {
   }
 }
 
+MeshPair load_pair(const std::string& mesh_a, const std::string& mesh_b, const std::string& pose,
+                   const std::string& fitter, std::uint32_t leaf_size, unsigned threads) {
+  MeshPair pair;
+  pair.pose_b = parse_pose_option(pose);
+  const auto parsed = parse_fitter(fitter);
+  if (!parsed) throw InputError("unknown fitter '" + fitter + "'");
+  pair.fitter = *parsed;
+  pair.a = load_mesh(mesh_a);
+  pair.b = load_mesh(mesh_b);
+  BuildOptions options;
+  options.fitter = pair.fitter;
+  options.leaf_size = leaf_size;
+  options.threads = threads;
+  const auto start = std::chrono::steady_clock::now();
+  pair.ta = build(pair.a, options);
+  pair.tb = build(pair.b, options);
+  pair.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return pair;
+}
+
 namespace {
 
 struct Args {
@@ -41,36 +61,20 @@ struct Args {
 };
 
 struct Run {
-  Fitter fitter;
-  Mesh a, b;
-  Pose pose_b;
+  MeshPair pair;
   QueryResult result;
-  double build_seconds = 0.0, query_seconds = 0.0;
+  double query_seconds = 0.0;
 };
 
 // Builds both trees and runs the query.
 [[nodiscard]] Run run_collide(const Args& args) {
-  const Pose pose_b = parse_pose_option(args.pose);
-  const auto fitter = parse_fitter(args.fitter);
-  if (!fitter) throw InputError("unknown fitter '" + args.fitter + "'");
-  Mesh a = load_mesh(args.mesh_a);
-  Mesh b = load_mesh(args.mesh_b);
-  BuildOptions build_options;
-  build_options.fitter = *fitter;
-  build_options.leaf_size = args.leaf_size;
-  build_options.threads = args.threads;
-  using Clock = std::chrono::steady_clock;
-  const auto t0 = Clock::now();
-  const Tree ta = build(a, build_options);
-  const Tree tb = build(b, build_options);
-  const auto t1 = Clock::now();
+  Run run{load_pair(args.mesh_a, args.mesh_b, args.pose, args.fitter, args.leaf_size, args.threads), {}};
   const QueryOptions options{.mode = args.all_pairs ? QueryMode::all_pairs : QueryMode::first_hit,
                              .margin = args.margin};
-  QueryResult result = collide(ta, a, Pose::identity(), tb, b, pose_b, options);
-  const auto t2 = Clock::now();
-  Run run{*fitter, std::move(a), std::move(b), pose_b, std::move(result)};
-  run.build_seconds = std::chrono::duration<double>(t1 - t0).count();
-  run.query_seconds = std::chrono::duration<double>(t2 - t1).count();
+  const auto start = std::chrono::steady_clock::now();
+  const MeshPair& p = run.pair;
+  run.result = collide(p.ta, p.a, Pose::identity(), p.tb, p.b, p.pose_b, options);
+  run.query_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return run;
 }
 
@@ -78,8 +82,8 @@ struct Run {
 void write_view(const Args& args, const Run& run) {
   const auto name = [](const std::string& path) { return std::filesystem::path(path).filename().string(); };
   const std::string title = name(args.mesh_a) + " (A) and " + name(args.mesh_b) + " (B): contacts, fitter " +
-                            to_string(run.fitter);
-  view::write_page(args.view, view::contacts_scene(title, {run.a, run.b, run.pose_b, run.result, args.all_pairs}));
+                            to_string(run.pair.fitter);
+  view::write_page(args.view, view::contacts_scene(title, {run.pair.a, run.pair.b, run.pair.pose_b, run.result, args.all_pairs}));
 }
 
 void print_collide(const Args& args, const Run& run) {
@@ -89,7 +93,7 @@ void print_collide(const Args& args, const Run& run) {
     for (const TrianglePair& p : r.pairs) pairs.push_back({p.a, p.b});
     nlohmann::json out = {{"mesh_a", args.mesh_a},
                           {"mesh_b", args.mesh_b},
-                          {"fitter", to_string(run.fitter)},
+                          {"fitter", to_string(run.pair.fitter)},
                           {"mode", args.all_pairs ? "all_pairs" : "first_hit"},
                           {"margin", args.margin},
                           {"hit", r.hit},
@@ -98,7 +102,7 @@ void print_collide(const Args& args, const Run& run) {
                           {"box_tests", r.stats.box_tests},
                           {"triangle_tests", r.stats.triangle_tests},
                           {"seconds", run.query_seconds},
-                          {"build_seconds", run.build_seconds}};
+                          {"build_seconds", run.pair.build_seconds}};
     if (!args.view.empty()) out["view"] = (std::filesystem::path(args.view) / "index.html").string();
     std::cout << out.dump(2) << '\n';
     return;
@@ -107,8 +111,8 @@ void print_collide(const Args& args, const Run& run) {
             << (args.all_pairs ? "pairs: " : "pairs (first hit): ") << r.pairs.size() << '\n'
             << "box tests: " << r.stats.box_tests << '\n'
             << "triangle tests: " << r.stats.triangle_tests << '\n'
-            << "seconds: " << run.query_seconds << " (query), " << run.build_seconds << " (build, fitter "
-            << to_string(run.fitter) << ")\n";
+            << "seconds: " << run.query_seconds << " (query), " << run.pair.build_seconds << " (build, fitter "
+            << to_string(run.pair.fitter) << ")\n";
   if (!args.view.empty()) std::cout << "wrote " << (std::filesystem::path(args.view) / "index.html").string() << '\n';
 }
 

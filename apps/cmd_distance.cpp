@@ -24,30 +24,17 @@ struct Args {
 };
 
 struct Run {
-  Fitter fitter;
+  MeshPair pair;
   DistanceResult result;
-  double build_seconds = 0.0, query_seconds = 0.0;
+  double query_seconds = 0.0;
 };
 
 [[nodiscard]] Run run_distance(const Args& args) {
-  const Pose pose_b = parse_pose_option(args.pose);
-  const auto fitter = parse_fitter(args.fitter);
-  if (!fitter) throw InputError("unknown fitter '" + args.fitter + "'");
-  const Mesh a = load_mesh(args.mesh_a);
-  const Mesh b = load_mesh(args.mesh_b);
-  BuildOptions build_options;
-  build_options.fitter = *fitter;
-  build_options.leaf_size = args.leaf_size;
-  build_options.threads = args.threads;
-  using Clock = std::chrono::steady_clock;
-  const auto t0 = Clock::now();
-  const Tree ta = build(a, build_options);
-  const Tree tb = build(b, build_options);
-  const auto t1 = Clock::now();
-  Run run{*fitter, distance(ta, a, Pose::identity(), tb, b, pose_b, args.options)};
-  const auto t2 = Clock::now();
-  run.build_seconds = std::chrono::duration<double>(t1 - t0).count();
-  run.query_seconds = std::chrono::duration<double>(t2 - t1).count();
+  Run run{load_pair(args.mesh_a, args.mesh_b, args.pose, args.fitter, args.leaf_size, args.threads), {}};
+  const auto start = std::chrono::steady_clock::now();
+  const MeshPair& p = run.pair;
+  run.result = distance(p.ta, p.a, Pose::identity(), p.tb, p.b, p.pose_b, args.options);
+  run.query_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return run;
 }
 
@@ -58,13 +45,13 @@ void print_distance(const Args& args, const Run& run) {
   if (args.json) {
     nlohmann::json out = {{"mesh_a", args.mesh_a},
                           {"mesh_b", args.mesh_b},
-                          {"fitter", to_string(run.fitter)},
+                          {"fitter", to_string(run.pair.fitter)},
                           {"distance", r.distance},
                           {"beyond_upper_bound", r.beyond_upper_bound},
                           {"node_pairs", r.stats.node_pairs},
                           {"triangle_pairs", r.stats.triangle_pairs},
                           {"seconds", run.query_seconds},
-                          {"build_seconds", run.build_seconds}};
+                          {"build_seconds", run.pair.build_seconds}};
     if (!r.beyond_upper_bound) {
       out["triangles"] = {r.pair.a, r.pair.b};
       out["point_a"] = to_json(r.point_a);
@@ -87,8 +74,8 @@ void print_distance(const Args& args, const Run& run) {
   std::cout.precision(6);
   std::cout << "node pairs: " << r.stats.node_pairs << '\n'
             << "triangle pairs: " << r.stats.triangle_pairs << '\n'
-            << "seconds: " << run.query_seconds << " (query), " << run.build_seconds << " (build, fitter "
-            << to_string(run.fitter) << ")\n";
+            << "seconds: " << run.query_seconds << " (query), " << run.pair.build_seconds << " (build, fitter "
+            << to_string(run.pair.fitter) << ")\n";
 }
 
 }  // namespace

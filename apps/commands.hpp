@@ -1,6 +1,12 @@
 #pragma once
 // Each subcommand of the `tightbvh` tool lives in its own cmd_*.cpp and registers itself here.
 #include <CLI/CLI.hpp>
+#include <cstdint>
+#include <string>
+
+#include "tightbvh/build.hpp"
+#include "tightbvh/mesh.hpp"
+#include "tightbvh/pose.hpp"
 #include <string>
 
 #include "tightbvh/pose.hpp"
@@ -16,5 +22,17 @@ void add_view_command(CLI::App& app);      // cmd_view.cpp (apps/view/)
 
 // The library's pose parser (pose_text.hpp), with the option named in its messages (cmd_collide.cpp).
 [[nodiscard]] Pose parse_pose_option(const std::string& text);
+
+// What the pair queries (collide, distance) start from: both meshes loaded, B's pose parsed, and
+// both trees built with the same options (cmd_collide.cpp). A stays at the identity.
+struct MeshPair {
+  Fitter fitter;
+  Mesh a, b;
+  Pose pose_b;
+  Tree ta, tb;
+  double build_seconds = 0.0;  // both trees
+};
+[[nodiscard]] MeshPair load_pair(const std::string& mesh_a, const std::string& mesh_b, const std::string& pose,
+                                 const std::string& fitter, std::uint32_t leaf_size, unsigned threads);
 
 }  // namespace tightbvh::cli

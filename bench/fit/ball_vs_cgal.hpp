@@ -10,10 +10,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <utility>
 #include <vector>
 
 #include "../thread_clock.hpp"
+#include "corpus_vertices.hpp"
 #include "tightbvh/ball.hpp"
 #include "tightbvh/mesh.hpp"
 
@@ -48,13 +50,9 @@ inline int compare_balls(const std::vector<std::filesystem::path>& files, double
   std::vector<double> diffs, ratios, excess;
   int within = 0;
   for (const auto& file : files) {
-    std::vector<Vec3> v;
-    try {
-      v = load_mesh(file).vertices;
-    } catch (const std::exception& e) {
-      std::printf("%-34s skipped: %s\n", file.filename().c_str(), e.what());
-      continue;
-    }
+    const std::optional<std::vector<Vec3>> loaded = fit_bench::vertices_or_skip(file);
+    if (!loaded) continue;
+    const std::vector<Vec3>& v = *loaded;
     std::vector<Traits::Sphere> spheres;
     spheres.reserve(v.size());
     for (const Vec3& p : v) spheres.emplace_back(K::Point_3(p.x(), p.y(), p.z()), 0.0);

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <functional>
 #include <span>
 #include <string>
@@ -18,6 +19,7 @@
 #include "tightbvh/ellipsoid.hpp"
 #include "tightbvh/fit.hpp"
 #include "tightbvh/hull.hpp"
+#include "corpus_vertices.hpp"
 #include "tightbvh/mesh.hpp"
 
 namespace tightbvh::containers_bench {
@@ -81,13 +83,9 @@ inline int compare_containers(const std::vector<std::filesystem::path>& files, d
   int flat = 0, big = 0;
   FitWorkspace ws;
   for (const auto& file : files) {
-    std::vector<Vec3> v;
-    try {
-      v = load_mesh(file).vertices;
-    } catch (const std::exception& e) {
-      std::printf("%-34s skipped: %s\n", file.filename().c_str(), e.what());
-      continue;
-    }
+    const std::optional<std::vector<Vec3>> loaded = fit_bench::vertices_or_skip(file);
+    if (!loaded) continue;
+    const std::vector<Vec3>& v = *loaded;
     const ConvexHull3 hull = convex_hull(v);
     if (hull.dimension < 3 || hull.vertices.size() > exact_max_hull) {
       std::printf("%-34s skipped: %s\n", file.filename().c_str(),

@@ -12,12 +12,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <numbers>
 #include <vector>
 
 #include "ball_vs_cgal.hpp"
 #include "tightbvh/ellipsoid.hpp"
 #include "tightbvh/hull.hpp"
+#include "corpus_vertices.hpp"
 #include "tightbvh/mesh.hpp"
 
 namespace tightbvh::ellipsoid_bench {
@@ -62,13 +64,9 @@ inline int compare_ellipsoids(const std::vector<std::filesystem::path>& files, d
   Summary s;
   int flat = 0, capped = 0, cgal_degenerate = 0;
   for (const auto& file : files) {
-    std::vector<Vec3> v;
-    try {
-      v = load_mesh(file).vertices;
-    } catch (const std::exception& e) {
-      std::printf("%-34s skipped: %s\n", file.filename().c_str(), e.what());
-      continue;
-    }
+    const std::optional<std::vector<Vec3>> loaded = fit_bench::vertices_or_skip(file);
+    if (!loaded) continue;
+    const std::vector<Vec3>& v = *loaded;
     const ConvexHull3 hull = convex_hull(v);
     if (hull.dimension < 3) {
       std::printf("%-34s skipped: flat (hull dimension %d)\n", file.filename().c_str(), hull.dimension);

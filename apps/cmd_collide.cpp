@@ -146,7 +146,7 @@ void add_collide_command(CLI::App& app) {
   cmd->add_option("--threads", args->threads, "build threads (0: all cores)")->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON instead of text");
   cmd->add_option("--view", args->view,
-                  "write DIR/index.html: the posed meshes, touching triangles highlighted, and the descent's node pairs");
+                  "write DIR/index.html: the posed meshes, touching triangles highlighted, the descent's node pairs");
   cmd->callback([args] {
     const Run run = run_collide(*args);
     if (!args->view.empty()) write_view(*args, run);

@@ -35,7 +35,8 @@ template <class PairsOf>
     picture.index = touching[touching.size() / 2];
     picture.pose = poses[picture.index];
     picture.pairs = pairs[picture.index];
-    picture.why = "the median number of touching pairs among the " + std::to_string(touching.size()) + " touching poses";
+    picture.why =
+        "the median number of touching pairs among the " + std::to_string(touching.size()) + " touching poses";
   } else if (!poses.empty()) {
     picture.pairs = pairs.empty() ? pairs_of(poses[0]) : pairs[0];
     picture.why = pairs.empty() ? "the first pose" : "the first pose (no pose touches)";

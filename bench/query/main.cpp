@@ -208,7 +208,7 @@ class Run {
       progress_.show(sname + ": reference", double(i + 1) / ps.size());
     }
     if (want_distance) brute_check(sname, ps, ref_distance);
-    if (!ps.empty())
+    if (!ps.empty() && !o_.report_dir.empty())
       pictures.push_back(tb::typical_pose(sname, ps, want_pairs ? ref_pairs : std::vector<std::vector<tb::Pair>>{},
                                           [&](const Pose& p) { return reference_.pairs(p); }));
     std::vector<Job> jobs = prepare(sname, ps);

@@ -128,7 +128,7 @@ nlohmann::json descent_json(const CollideTrace& trace, const Tree& a, const Tree
   // One rounding for both trees (the scene's size), as for the meshes.
   double scale = 1.0;
   if (!a.nodes.empty() && !b.nodes.empty())
-    scale = std::max(scale_of(a.nodes[0].box), scale_of(b.nodes[0].box.transformed(pose_b)));
+    scale = std::max(scale_of(a.nodes[0].box.obb()), scale_of(b.nodes[0].box.obb().transformed(pose_b)));
   const Rounding rounding(scale);
   nlohmann::json boxes_a = nlohmann::json::array(), boxes_b = nlohmann::json::array();
   std::map<std::uint32_t, std::size_t> index_a, index_b;  // node -> position in boxes_a / boxes_b
@@ -141,8 +141,8 @@ nlohmann::json descent_json(const CollideTrace& trace, const Tree& a, const Tree
   nlohmann::json steps = nlohmann::json::array();
   for (std::size_t i = 0; i < drawn; ++i) {
     const VisitedPair& p = trace.pairs[i];
-    steps.push_back(box_index(index_a, boxes_a, a.nodes[p.a].box, p.a));
-    steps.push_back(box_index(index_b, boxes_b, b.nodes[p.b].box.transformed(pose_b), p.b));
+    steps.push_back(box_index(index_a, boxes_a, a.nodes[p.a].box.obb(), p.a));
+    steps.push_back(box_index(index_b, boxes_b, b.nodes[p.b].box.obb().transformed(pose_b), p.b));
     steps.push_back(static_cast<int>(p.outcome));
     steps.push_back(p.level);
   }

@@ -1,8 +1,8 @@
 // collide_trace(): collide()'s descent, recorded (include/tightbvh/collide_trace.hpp). Kept apart
 // from collide.cpp so that the hot loop there stays as it is; the node test and the leaf test
-// below must stay the same computation as collide_trees() (same traverse_pairs, same mapped box,
-// same margins, same triangle order in the leaves), which tests/collide/trace_test.cpp checks by
-// comparing first hits and test counts with collide().
+// below must stay the same computation as collide_trees() (same traverse_pairs, the same box
+// helpers of query_common.hpp and query_workspace.hpp, same triangle order in the leaves), which
+// tests/collide/trace_test.cpp checks by comparing first hits and test counts with collide().
 #include "tightbvh/collide_trace.hpp"
 
 #include <algorithm>
@@ -56,9 +56,7 @@ CollideTrace collide_trace(const Tree& ta, const Mesh& ma, const Pose& pa, const
   const bool first_hit = options.mode == QueryMode::first_hit;
   const bool with_margin = options.margin != 0.0;
   const Pose rel = relative_pose(pa, pb);
-  const Mat3& R = rel.rotation;
-  const Vec3& t = rel.translation;
-  double margin = kBoxMargin * (box_scale(ta.nodes[0].box) + box_scale(tb.nodes[0].box) + t.cwiseAbs().maxCoeff());
+  double margin = box_allowance(ta, tb, rel);
   if (with_margin) margin += options.margin;
   const std::vector<std::uint32_t> depth_a = node_depths(ta), depth_b = node_depths(tb);
 
@@ -83,18 +81,12 @@ CollideTrace collide_trace(const Tree& ta, const Mesh& ma, const Pose& pa, const
   BoxCache cache;
   cache.begin(tb.nodes.size());
   const auto boxes_overlap = [&](std::uint32_t ia, std::uint32_t ib) {
-    const Obb& ba = ta.nodes[ia].box;
-    const Obb& bb = tb.nodes[ib].box;
+    const CompactBox& ba = ta.nodes[ia].box;
+    const CompactBox& bb = tb.nodes[ib].box;
     ++result.stats.box_tests;
-    MappedBox& mapped_box = cache.boxes[ib];
-    if (cache.stamp[ib] != cache.epoch) {
-      cache.stamp[ib] = cache.epoch;
-      mapped_box.axes.noalias() = R * bb.axes;
-      mapped_box.center.noalias() = R * bb.center + t;
-    }
-    const Mat3 c = ba.axes.transpose() * mapped_box.axes;
-    const Vec3 d = ba.axes.transpose() * (mapped_box.center - ba.center);
-    const bool overlap = obb_overlap(c, d, ba.half_extents, bb.half_extents, margin);
+    const MappedBox& mapped_box = cache.mapped(ib, bb, rel);  // B's box in A's frame, once per query
+    const auto [c, d] = in_box_frame(ba, mapped_box.axes, mapped_box.center);
+    const bool overlap = obb_overlap(c, d, ba.half_extents_d(), bb.half_extents_d(), margin);
     const bool leaves = ta.nodes[ia].is_leaf() && tb.nodes[ib].is_leaf();
     record(ia, ib, !overlap ? PairOutcome::culled : leaves ? PairOutcome::leaves : PairOutcome::descended);
     return overlap;

@@ -139,7 +139,8 @@ TEST(ViewScene, DescentStepsAreTheVisitedNodePairs) {
     const std::size_t ia = d["steps"][4 * i], ib = d["steps"][4 * i + 1];
     EXPECT_EQ(d["steps"][4 * i + 2], static_cast<int>(p.outcome));
     EXPECT_EQ(d["steps"][4 * i + 3], p.level);
-    const auto box_a = tree.nodes[p.a].box.corners(), box_b = tree.nodes[p.b].box.transformed(pose_b).corners();
+    const auto box_a = tree.nodes[p.a].box.obb().corners();
+    const auto box_b = tree.nodes[p.b].box.obb().transformed(pose_b).corners();
     for (int k = 0; k < 8; ++k) {
       EXPECT_LT((corner(d["boxes_a"], 15 * ia, k) - box_a[k]).norm(), 1e-4);
       EXPECT_LT((corner(d["boxes_b"], 15 * ib, k) - box_b[k]).norm(), 1e-4);

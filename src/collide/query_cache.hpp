@@ -30,12 +30,12 @@ inline constexpr std::uint32_t kNoNode = std::numeric_limits<std::uint32_t>::max
 struct FrontEntry {
   std::uint32_t a = 0, b = 0;
   std::uint16_t culled = 0;  // consecutive queries in which this pair's boxes were apart
-  std::uint8_t level = 0;    // lift back-off: a lift is tried once both siblings were apart 2 << level times
-  std::uint8_t state = 0;    // kFresh; kTestedApart / kTestedOverlap: the witness, tested ahead;
+  std::uint8_t level = 0;    // lift back-off: a lift is tried once both siblings were apart 1 << level times
+  std::uint8_t state = 0;    // kFresh; kTestedApart / kTestedOverlap: a first_hit leaf pair tested ahead;
                              // kUntested: a child on the descent stack
 };
 inline constexpr std::uint8_t kFresh = 0, kTestedApart = 1, kTestedOverlap = 2, kUntested = 3;
-inline constexpr std::uint8_t kMaxLiftLevel = 7;  // at most one failed lift try per 256 queries
+inline constexpr std::uint8_t kMaxLiftLevel = 8;  // at most one failed lift try per 256 queries
 
 // What identifies a tree for the cache (see query_cache.hpp).
 struct TreeKey {
@@ -90,7 +90,7 @@ struct QueryCache::State {
 namespace query_detail {
 
 // The descent of traverse_pairs, from the front of `st` (bound to ta, tb); rebuilds the front.
-// try_witness: test the stored witness leaf pair before anything else (first_hit queries).
+// try_witness (first_hit queries): the previous query's overlapping leaf pairs first, the last hit's first of all.
 template <class NodeTest, class LeafPair>
 Walk traverse_front(const Tree& ta, const Tree& tb, DescendRule rule, QueryCache::State& st, bool try_witness,
                     NodeTest&& test, LeafPair&& leaves) {
@@ -99,18 +99,38 @@ Walk traverse_front(const Tree& ta, const Tree& tb, DescendRule rule, QueryCache
   std::vector<FrontEntry>& stack = st.stack;
   next.clear();
 
-  // The witness first: a leaf pair that touched in the previous query usually still does.
-  if (try_witness && st.witness < front.size()) {
-    FrontEntry& w = front[st.witness];
-    if (ta.nodes[w.a].is_leaf() && tb.nodes[w.b].is_leaf()) {
-      if (!test(w.a, w.b)) {
-        w.state = kTestedApart;
-      } else {
-        w.culled = 0;
-        if (leaves(w.a, w.b) == Walk::stop) return Walk::stop;  // the front is unchanged
-        w.state = kTestedOverlap;
+  // The root pair first: when the meshes have moved apart, one test answers and the front
+  // collapses to the roots at once (lifting would take a pass over the whole front).
+  if (front.size() > 1 && !test(0, 0)) {
+    front.assign(1, FrontEntry{0, 0, 1, 0, kFresh});
+    st.witness = kNoNode;
+    return Walk::go_on;
+  }
+
+  // first_hit: the leaf pairs whose boxes overlapped in the previous query first (the witness,
+  // the last hit's leaf pair, before them): contact persists between close poses, so the hit is
+  // usually among them. Each is tested once; the main loop below reuses the outcome.
+  if (try_witness) {
+    const auto pretest = [&](std::size_t k) {
+      FrontEntry& e = front[k];
+      if (e.state != kFresh || e.culled != 0 || !ta.nodes[e.a].is_leaf() || !tb.nodes[e.b].is_leaf()) return false;
+      if (!test(e.a, e.b)) {
+        e.state = kTestedApart;
+        return false;
       }
-    }
+      e.state = kTestedOverlap;
+      return leaves(e.a, e.b) == Walk::stop;
+    };
+    const auto stop_here = [&](std::size_t k, std::size_t tested) {  // the front stays as it is
+      for (std::size_t j = 0; j < tested; ++j) front[j].state = kFresh;
+      front[k].state = kFresh;
+      if (st.witness < front.size()) front[st.witness].state = kFresh;
+      st.witness = static_cast<std::uint32_t>(k);
+      return Walk::stop;
+    };
+    if (st.witness < front.size() && pretest(st.witness)) return stop_here(st.witness, 0);
+    for (std::size_t k = 0; k < front.size(); ++k)
+      if (pretest(k)) return stop_here(k, k);
   }
 
   // Appends an entry found apart in this query, lifting while the last two entries are siblings
@@ -121,7 +141,7 @@ Walk traverse_front(const Tree& ta, const Tree& tb, DescendRule rule, QueryCache
     while (next.size() >= 2) {
       FrontEntry& y = next.back();
       FrontEntry& x = next[next.size() - 2];
-      if (x.culled < (2u << x.level) || y.culled < (2u << y.level)) return;
+      if (x.culled < (1u << x.level) || y.culled < (1u << y.level)) return;
       std::uint32_t pa = kNoNode, pb = kNoNode;
       if (x.a == y.a && x.b != y.b && st.parent_b[x.b] == st.parent_b[y.b] && st.parent_b[x.b] != kNoNode) {
         pa = x.a;
@@ -165,7 +185,7 @@ Walk traverse_front(const Tree& ta, const Tree& tb, DescendRule rule, QueryCache
     bool overlap;
     if (e.state == kFresh) {
       overlap = test(e.a, e.b);
-    } else {  // the witness, tested ahead (a leaf pair: its triangles were tested too)
+    } else {  // a leaf pair tested ahead (its triangles were tested too)
       overlap = e.state == kTestedOverlap;
       e.state = kFresh;
       if (overlap) {
@@ -188,6 +208,7 @@ Walk traverse_front(const Tree& ta, const Tree& tb, DescendRule rule, QueryCache
         q.state = kFresh;
         if (!test(q.a, q.b)) {
           q.culled = 1;
+          q.level = 1;  // its parent overlapped just now: no lift before the next query
           push_apart(q);
           continue;
         }

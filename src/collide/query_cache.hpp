@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "query_workspace.hpp"
@@ -31,11 +32,39 @@ struct FrontEntry {
   std::uint32_t a = 0, b = 0;
   std::uint16_t culled = 0;  // consecutive queries in which this pair's boxes were apart
   std::uint8_t level = 0;    // lift back-off: a lift is tried once both siblings were apart 1 << level times
-  std::uint8_t state = 0;    // kFresh; kTestedApart / kTestedOverlap: a first_hit leaf pair tested ahead;
-                             // kUntested: a child on the descent stack
+  std::uint8_t state = 0;    // kFresh; kTestedApart / kTestedOverlap: a first_hit leaf pair tested ahead
 };
-inline constexpr std::uint8_t kFresh = 0, kTestedApart = 1, kTestedOverlap = 2, kUntested = 3;
+inline constexpr std::uint8_t kFresh = 0, kTestedApart = 1, kTestedOverlap = 2;
 inline constexpr std::uint8_t kMaxLiftLevel = 8;  // at most one failed lift try per 256 queries
+
+// A growable array of entries whose push is inlined (std::vector's push_back was not, and it
+// sits on the per-pair path).
+class EntryList {
+ public:
+  [[nodiscard]] std::size_t size() const { return n_; }
+  [[nodiscard]] bool empty() const { return n_ == 0; }
+  void clear() { n_ = 0; }
+  void push_back(const FrontEntry& e) {
+    if (n_ == data_.size()) [[unlikely]]
+      data_.resize(std::max<std::size_t>(64, 2 * data_.size()));
+    data_[n_++] = e;
+  }
+  void pop_back() { --n_; }
+  [[nodiscard]] FrontEntry& back() { return data_[n_ - 1]; }
+  [[nodiscard]] FrontEntry& operator[](std::size_t i) { return data_[i]; }
+  void assign_one(const FrontEntry& e) {
+    clear();
+    push_back(e);
+  }
+  void swap(EntryList& other) noexcept {
+    data_.swap(other.data_);
+    std::swap(n_, other.n_);
+  }
+
+ private:
+  std::vector<FrontEntry> data_;
+  std::size_t n_ = 0;
+};
 
 // What identifies a tree for the cache (see query_cache.hpp).
 struct TreeKey {
@@ -62,8 +91,8 @@ inline void fill_parents(const Tree& t, std::vector<std::uint32_t>& parent) {
 struct QueryCache::State {
   query_detail::TreeKey key_a, key_b;
   std::vector<std::uint32_t> parent_a, parent_b;
-  std::vector<query_detail::FrontEntry> front, next;
-  std::vector<query_detail::FrontEntry> stack;  // descent below one front entry
+  query_detail::EntryList front, next;
+  query_detail::EntryList stack;  // descent below one front entry
   std::uint32_t witness = query_detail::kNoNode;  // index into front of the last first_hit's leaf pair
   std::uint64_t resets = 0;
   QueryWorkspace::Scratch scratch;
@@ -82,97 +111,88 @@ struct QueryCache::State {
     key_b = kb;
     query_detail::fill_parents(a, parent_a);
     query_detail::fill_parents(b, parent_b);
-    front.assign(1, query_detail::FrontEntry{});  // the root pair
+    front.assign_one(query_detail::FrontEntry{});  // the root pair
     witness = query_detail::kNoNode;
   }
 };
 
 namespace query_detail {
 
+// Where the node pair being tested came from (traverse_front has one call site of `test`, so
+// that the query's box test inlines there).
+enum class Source : std::uint8_t {
+  root,      // the root pair, tested first when the front is larger
+  pretest,   // first_hit: a leaf pair that overlapped in the previous query (the witness first)
+  front,     // an entry of the previous front
+  child,     // a child pair below an overlapping pair
+  lift,      // the parent of two sibling entries found apart
+};
+
 // The descent of traverse_pairs, from the front of `st` (bound to ta, tb); rebuilds the front.
-// try_witness (first_hit queries): the previous query's overlapping leaf pairs first, the last hit's first of all.
+// first_hit: the previous query's overlapping leaf pairs are tried first, the last hit's first
+// of all (a leaf pair that touched usually still does between close poses).
+// flatten (GCC, Clang; others ignore it): with the pre-pass, lifting and stop paths the function
+// outgrew GCC's inlining budget, and the box test's 3x3 products and the entry pushes became calls
+// (all_pairs on the bench trajectory: 0.96x -> 1.04x of cold queries' speed).
 template <class NodeTest, class LeafPair>
-Walk traverse_front(const Tree& ta, const Tree& tb, DescendRule rule, QueryCache::State& st, bool try_witness,
+[[gnu::flatten]] Walk traverse_front(const Tree& ta, const Tree& tb, DescendRule rule, QueryCache::State& st, bool first_hit,
                     NodeTest&& test, LeafPair&& leaves) {
-  std::vector<FrontEntry>& front = st.front;
-  std::vector<FrontEntry>& next = st.next;
-  std::vector<FrontEntry>& stack = st.stack;
+  EntryList& front = st.front;
+  EntryList& next = st.next;
+  EntryList& stack = st.stack;
   next.clear();
+  stack.clear();
 
-  // The root pair first: when the meshes have moved apart, one test answers and the front
-  // collapses to the roots at once (lifting would take a pass over the whole front).
-  if (front.size() > 1 && !test(0, 0)) {
-    front.assign(1, FrontEntry{0, 0, 1, 0, kFresh});
-    st.witness = kNoNode;
-    return Walk::go_on;
-  }
+  std::size_t i = 0;             // next entry of the old front
+  std::size_t pre = 0;           // next entry of the first_hit pre-pass (kNoNode: the witness)
+  bool pre_pass = first_hit;     // first_hit: pre-pass over the previous query's overlapping leaf pairs
+  bool root_first = front.size() > 1;
+  bool lifting = false;          // `lift` holds the parent of next's last two entries, to be tested
+  bool witness_next = st.witness < front.size();
+  FrontEntry lift{};
 
-  // first_hit: the leaf pairs whose boxes overlapped in the previous query first (the witness,
-  // the last hit's leaf pair, before them): contact persists between close poses, so the hit is
-  // usually among them. Each is tested once; the main loop below reuses the outcome.
-  if (try_witness) {
-    const auto pretest = [&](std::size_t k) {
-      FrontEntry& e = front[k];
-      if (e.state != kFresh || e.culled != 0 || !ta.nodes[e.a].is_leaf() || !tb.nodes[e.b].is_leaf()) return false;
-      if (!test(e.a, e.b)) {
-        e.state = kTestedApart;
-        return false;
-      }
-      e.state = kTestedOverlap;
-      return leaves(e.a, e.b) == Walk::stop;
-    };
-    const auto stop_here = [&](std::size_t k, std::size_t tested) {  // the front stays as it is
-      for (std::size_t j = 0; j < tested; ++j) front[j].state = kFresh;
-      front[k].state = kFresh;
-      if (st.witness < front.size()) front[st.witness].state = kFresh;
-      st.witness = static_cast<std::uint32_t>(k);
-      return Walk::stop;
-    };
-    if (st.witness < front.size() && pretest(st.witness)) return stop_here(st.witness, 0);
-    for (std::size_t k = 0; k < front.size(); ++k)
-      if (pretest(k)) return stop_here(k, k);
-  }
-
-  // Appends an entry found apart in this query, lifting while the last two entries are siblings
-  // that have both been apart long enough and whose parent pair is apart too (Ehmann & Lin's
-  // front propagation upwards). A parent that still overlaps raises both siblings' back-off.
-  const auto push_apart = [&](FrontEntry e) {
-    next.push_back(e);
-    while (next.size() >= 2) {
-      FrontEntry& y = next.back();
-      FrontEntry& x = next[next.size() - 2];
-      if (x.culled < (1u << x.level) || y.culled < (1u << y.level)) return;
-      std::uint32_t pa = kNoNode, pb = kNoNode;
-      if (x.a == y.a && x.b != y.b && st.parent_b[x.b] == st.parent_b[y.b] && st.parent_b[x.b] != kNoNode) {
-        pa = x.a;
-        pb = st.parent_b[x.b];
-      } else if (x.b == y.b && x.a != y.a && st.parent_a[x.a] == st.parent_a[y.a] && st.parent_a[x.a] != kNoNode) {
-        pa = st.parent_a[x.a];
-        pb = x.b;
-      } else {
-        return;
-      }
-      if (test(pa, pb)) {
-        x.level = std::min<std::uint8_t>(x.level + 1, kMaxLiftLevel);
-        y.level = std::min<std::uint8_t>(y.level + 1, kMaxLiftLevel);
-        x.culled = y.culled = 0;
-        return;
-      }
-      const FrontEntry parent{pa, pb, std::min(x.culled, y.culled), 0, kFresh};
-      next.pop_back();
-      next.back() = parent;
+  // After an entry found apart was appended: may its last two entries be lifted into their parent
+  // pair? Yes when they are siblings (the same node of one tree, siblings in the other) that have
+  // both been apart 1 << level queries in a row (Ehmann & Lin's front propagation upwards, with a
+  // back-off per entry, raised each time the parent is found to overlap).
+  const auto want_lift = [&] {
+    if (next.size() < 2) return false;
+    const FrontEntry& y = next.back();
+    const FrontEntry& x = next[next.size() - 2];
+    if (x.culled < (1u << x.level) || y.culled < (1u << y.level)) return false;
+    if (x.a == y.a && x.b != y.b) {
+      const std::uint32_t p = st.parent_b[x.b];
+      if (p == kNoNode || p != st.parent_b[y.b]) return false;
+      lift = {x.a, p, std::min(x.culled, y.culled), 0, kFresh};
+      return true;
     }
+    if (x.b == y.b && x.a != y.a) {
+      const std::uint32_t p = st.parent_a[x.a];
+      if (p == kNoNode || p != st.parent_a[y.a]) return false;
+      lift = {p, x.b, std::min(x.culled, y.culled), 0, kFresh};
+      return true;
+    }
+    return false;
   };
   const auto bump = [](std::uint16_t c) { return static_cast<std::uint16_t>(c == 0xffff ? c : c + 1); };
+  const auto is_leaf_pair = [&](const FrontEntry& e) { return ta.nodes[e.a].is_leaf() && tb.nodes[e.b].is_leaf(); };
 
-  // On a stop, the rest of the descent stack and of the old front stay in the front untested.
-  const auto keep_rest = [&](std::size_t from) {
+  // first_hit stopped in the pre-pass: the front stays as it is.
+  const auto stop_in_pre_pass = [&](std::size_t k) {
+    for (std::size_t j = 0; j < pre; ++j) front[j].state = kFresh;  // what the pre-pass tested
+    if (st.witness < front.size()) front[st.witness].state = kFresh;
+    front[k].state = kFresh;
+    st.witness = static_cast<std::uint32_t>(k);
+    return Walk::stop;
+  };
+  // Stopped in the main pass: the rest of the descent stack and of the old front stay untested.
+  const auto stop_in_main_pass = [&] {
     st.witness = static_cast<std::uint32_t>(next.size() - 1);
     for (std::size_t k = stack.size(); k-- > 0;) {
       next.push_back(stack[k]);
       next.back().state = kFresh;
     }
-    for (std::size_t k = from; k < front.size(); ++k) {
+    for (std::size_t k = i; k < front.size(); ++k) {
       next.push_back(front[k]);
       next.back().state = kFresh;
     }
@@ -180,57 +200,121 @@ Walk traverse_front(const Tree& ta, const Tree& tb, DescendRule rule, QueryCache
     return Walk::stop;
   };
 
-  for (std::size_t i = 0; i < front.size(); ++i) {
-    FrontEntry e = front[i];
-    bool overlap;
-    if (e.state == kFresh) {
-      overlap = test(e.a, e.b);
-    } else {  // a leaf pair tested ahead (its triangles were tested too)
-      overlap = e.state == kTestedOverlap;
-      e.state = kFresh;
-      if (overlap) {
-        next.push_back(e);
-        continue;
-      }
-    }
-    if (!overlap) {
-      e.culled = bump(e.culled);
-      push_apart(e);
-      continue;
-    }
-    e.culled = 0;
-    stack.clear();
-    stack.push_back(e);
-    while (!stack.empty()) {
-      FrontEntry q = stack.back();
-      stack.pop_back();
-      if (q.state == kUntested) {  // a child of an overlapping pair (the front entry itself was tested above)
-        q.state = kFresh;
-        if (!test(q.a, q.b)) {
-          q.culled = 1;
-          q.level = 1;  // its parent overlapped just now: no lift before the next query
-          push_apart(q);
+  for (;;) {
+    // Pick the next node pair to test.
+    Source source;
+    FrontEntry q;
+    std::size_t pre_index = 0;
+    if (root_first) {
+      root_first = false;
+      source = Source::root;
+      q = FrontEntry{};
+    } else if (pre_pass) {
+      if (witness_next) {
+        witness_next = false;
+        pre_index = st.witness;
+      } else {
+        while (pre < front.size() && (front[pre].culled != 0 || front[pre].state != kFresh || !is_leaf_pair(front[pre])))
+          ++pre;
+        if (pre == front.size()) {
+          pre_pass = false;
           continue;
         }
+        pre_index = pre++;
       }
-      const Node& na = ta.nodes[q.a];
-      const Node& nb = tb.nodes[q.b];
-      if (na.is_leaf() && nb.is_leaf()) {
-        q.culled = 0;
-        next.push_back(q);
-        if (leaves(q.a, q.b) == Walk::stop) return keep_rest(i + 1);
+      if (!is_leaf_pair(front[pre_index]) || front[pre_index].state != kFresh) continue;
+      source = Source::pretest;
+      q = front[pre_index];
+    } else if (lifting) {
+      lifting = false;
+      source = Source::lift;
+      q = lift;
+    } else if (!stack.empty()) {
+      source = Source::child;
+      q = stack.back();
+      stack.pop_back();
+    } else if (i < front.size()) {
+      source = Source::front;
+      q = front[i++];
+      if (q.state != kFresh) {  // tested in the pre-pass (a leaf pair: its triangles too)
+        const bool apart = q.state == kTestedApart;
+        q.state = kFresh;
+        if (apart) {
+          q.culled = bump(q.culled);
+          next.push_back(q);
+          lifting = want_lift();
+        } else {
+          next.push_back(q);
+        }
         continue;
       }
-      // Split as traverse_pairs does (first child popped first: the same depth-first order).
-      const bool split_a =
-          nb.is_leaf() || (!na.is_leaf() && descend_size(na.box, rule) >= descend_size(nb.box, rule));
-      if (split_a) {
-        stack.push_back({na.first + 1, q.b, 0, 0, kUntested});
-        stack.push_back({na.first, q.b, 0, 0, kUntested});
-      } else {
-        stack.push_back({q.a, nb.first + 1, 0, 0, kUntested});
-        stack.push_back({q.a, nb.first, 0, 0, kUntested});
+    } else {
+      break;
+    }
+
+    const bool overlap = test(q.a, q.b);
+
+    switch (source) {
+      case Source::root:
+        if (!overlap) {  // apart: one test answers, and the front collapses to the roots
+          front.assign_one(FrontEntry{0, 0, 1, 0, kFresh});
+          st.witness = kNoNode;
+          return Walk::go_on;
+        }
+        continue;
+      case Source::pretest: {
+        FrontEntry& e = front[pre_index];
+        e.state = overlap ? kTestedOverlap : kTestedApart;
+        if (overlap && leaves(q.a, q.b) == Walk::stop) return stop_in_pre_pass(pre_index);
+        continue;
       }
+      case Source::lift:
+        if (overlap) {  // keep both siblings; back off
+          FrontEntry& y = next.back();
+          FrontEntry& x = next[next.size() - 2];
+          x.level = std::min<std::uint8_t>(x.level + 1, kMaxLiftLevel);
+          y.level = std::min<std::uint8_t>(y.level + 1, kMaxLiftLevel);
+          x.culled = y.culled = 0;
+        } else {
+          next.pop_back();
+          next.back() = q;
+          lifting = want_lift();
+        }
+        continue;
+      case Source::front:
+      case Source::child:
+        break;
+    }
+
+    if (!overlap) {
+      if (source == Source::front) {
+        q.culled = bump(q.culled);
+      } else {
+        q.culled = 1;
+        q.level = 1;  // its parent overlapped just now: no lift before the next query
+      }
+      q.state = kFresh;
+      next.push_back(q);
+      lifting = want_lift();
+      continue;
+    }
+    q.culled = 0;
+    q.state = kFresh;
+    const Node& na = ta.nodes[q.a];
+    const Node& nb = tb.nodes[q.b];
+    if (na.is_leaf() && nb.is_leaf()) {
+      next.push_back(q);
+      if (leaves(q.a, q.b) == Walk::stop) return stop_in_main_pass();
+      continue;
+    }
+    // Split as traverse_pairs does (first child popped first: the same depth-first order).
+    const bool split_a = nb.is_leaf() || (!na.is_leaf() && descend_size(na.box, rule) >= descend_size(nb.box, rule));
+    if (split_a) {
+      stack.push_back({na.first + 1, q.b, 0, 0, kFresh});
+      stack.push_back({na.first, q.b, 0, 0, kFresh});
+    } else {
+      stack.push_back({q.a, nb.first + 1, 0, 0, kFresh});
+      stack.push_back({q.a, nb.first, 0, 0, kFresh});
     }
   }
   st.witness = kNoNode;

@@ -50,9 +50,16 @@ std::string agreement_text(const Row& r) {
 
 namespace {
 
-// tightbvh-X-qc: engine tightbvh-X with a QueryCache (front tracking) per mode.
-[[nodiscard]] bool is_cached(const std::string& engine) {
-  return engine.size() > 3 && engine.compare(engine.size() - 3, 3, "-qc") == 0;
+[[nodiscard]] bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() > tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+// tightbvh-X-qc: engine tightbvh-X with a QueryCache (front tracking) per mode; fcl-obb-front:
+// fcl-obb with FCL's BVHFrontList.
+[[nodiscard]] bool is_cached(const std::string& engine) { return ends_with(engine, "-qc"); }
+[[nodiscard]] std::string cold_twin(const std::string& engine) {
+  if (ends_with(engine, "-qc")) return engine.substr(0, engine.size() - 3);
+  if (ends_with(engine, "-front")) return engine.substr(0, engine.size() - 6);
+  return {};
 }
 
 // Issue #16 (coherent sequences): each -qc engine's queries/s over its cold twin's, same poses.
@@ -60,11 +67,11 @@ void print_cache_speedup(std::ostream& out, const std::vector<Row>& rows) {
   bool header = false;
   char line[256];
   for (const Row& c : rows) {
-    if (!is_cached(c.engine) || c.qps() <= 0) continue;
-    const std::string cold_name = c.engine.substr(0, c.engine.size() - 3);
+    const std::string cold_name = cold_twin(c.engine);
+    if (cold_name.empty() || c.qps() <= 0) continue;
     for (const Row& r : rows) {
       if (r.engine != cold_name || r.scenario != c.scenario || r.mode != c.mode || r.qps() <= 0) continue;
-      if (!header) out << "\nQueryCache (front tracking, -qc) vs cold queries, same fitter and poses:\n";
+      if (!header) out << "\nQueryCache (front tracking, -qc; FCL's BVHFrontList, -front) vs cold queries, same trees and poses:\n";
       header = true;
       std::snprintf(line, sizeof line, "  %-10s %-9s %-18s %10.1f q/s vs %-15s %10.1f q/s = %5.2fx\n",
                     c.scenario.c_str(), to_string(c.mode), c.engine.c_str(), c.qps(), r.engine.c_str(), r.qps(),

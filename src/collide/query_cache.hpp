@@ -35,7 +35,7 @@ struct FrontEntry {
   std::uint8_t state = 0;    // kFresh; kTestedApart / kTestedOverlap: a first_hit leaf pair tested ahead
 };
 inline constexpr std::uint8_t kFresh = 0, kTestedApart = 1, kTestedOverlap = 2;
-inline constexpr std::uint8_t kMaxLiftLevel = 8;  // at most one failed lift try per 256 queries
+inline constexpr std::uint8_t kMaxLiftLevel = 2;  // a failed lift is retried after at most 4 queries
 
 // A growable array of entries whose push is inlined (std::vector's push_back was not, and it
 // sits on the per-pair path).

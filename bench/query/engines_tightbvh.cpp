@@ -1,11 +1,13 @@
 // Our engines (tightbvh-*), our trees inside FCL (fcl-export-*), and the reference.
 #include <chrono>
+#include <string>
 
 #include "fcl_adapter.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
 #include "tightbvh/distance.hpp"
 #include "tightbvh/fcl/export.hpp"
+#include "tightbvh/query_cache.hpp"
 
 namespace tightbvh::bench {
 namespace {
@@ -43,6 +45,10 @@ class TightbvhAdapter {
   [[nodiscard]] double distance(const Pose& pose) const {
     return tightbvh::distance(a_, ma_, Pose::identity(), b_, mb_, pose, {}, workspace_).distance;
   }
+  [[nodiscard]] const Tree& a() const { return a_; }
+  [[nodiscard]] const Tree& b() const { return b_; }
+  [[nodiscard]] const Mesh& ma() const { return ma_; }
+  [[nodiscard]] const Mesh& mb() const { return mb_; }
 
  private:
   const Mesh& ma_;
@@ -53,6 +59,47 @@ class TightbvhAdapter {
   // the queries are logically const.
   mutable QueryWorkspace workspace_;
 };
+
+// The same trees and queries through a QueryCache (front tracking), one cache per mode, so each
+// mode's sequence of poses runs as a simulation loop would. Distance queries are cold.
+class TightbvhCachedAdapter {
+ public:
+  TightbvhCachedAdapter(const Input& in, const Fitter& fitter) : cold_(in, fitter), margin_(kMarginOfScale * in.scale) {}
+
+  [[nodiscard]] bool first_hit(const Pose& pose) const {
+    return collide(cold_.a(), cold_.ma(), Pose::identity(), cold_.b(), cold_.mb(), pose, {.mode = QueryMode::first_hit},
+                   first_)
+        .hit;
+  }
+  void all_pairs(const Pose& pose, std::vector<Pair>& out) const {
+    const QueryResult r = collide(cold_.a(), cold_.ma(), Pose::identity(), cold_.b(), cold_.mb(), pose,
+                                  {.mode = QueryMode::all_pairs}, all_);
+    for (const TrianglePair& p : r.pairs) out.emplace_back(p.a, p.b);
+  }
+  void margin_pairs(const Pose& pose, std::vector<Pair>& out) const {
+    const QueryResult r = collide(cold_.a(), cold_.ma(), Pose::identity(), cold_.b(), cold_.mb(), pose,
+                                  {.mode = QueryMode::all_pairs, .margin = margin_}, margin_cache_);
+    for (const TrianglePair& p : r.pairs) out.emplace_back(p.a, p.b);
+  }
+  [[nodiscard]] double distance(const Pose& pose) const { return cold_.distance(pose); }
+  [[nodiscard]] std::string stats() const {
+    return "QueryCache fronts at the end: first_hit " + std::to_string(first_.front_size()) + ", all_pairs " +
+           std::to_string(all_.front_size()) + " node pairs";
+  }
+
+ private:
+  TightbvhAdapter cold_;
+  double margin_;
+  mutable QueryCache first_, all_, margin_cache_;
+};
+
+EngineInfo cached(const std::string& name, Fitter fitter) {
+  return {name, true, true, "",
+          [fitter](const Input& in) {
+            return prepare([&] { return std::make_unique<TightbvhCachedAdapter>(in, fitter); });
+          },
+          true, true};
+}
 
 EngineInfo ours(const std::string& name, Fitter fitter) {
   return {name, true, true, "",
@@ -84,6 +131,8 @@ std::vector<EngineInfo> tightbvh_engines() {
           ours("tightbvh-pca", FitMethod::pca),
           ours("tightbvh-approx", FitMethod::approx),
           ours("tightbvh-auto", AutoFit{}),
+          cached("tightbvh-approx-qc", FitMethod::approx),
+          cached("tightbvh-auto-qc", AutoFit{}),
           exported("fcl-export-pca", FitMethod::pca),
           exported("fcl-export-approx", FitMethod::approx)};
 }

@@ -83,7 +83,7 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--poses", o.poses, "poses per scenario")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--seed", o.seed, "random seed of the generated poses")->capture_default_str();
   app.add_option("--scenario", o.scenario_arg,
-                 "comma-separated: overlap, near, separated, gap, all (all: the first three)")
+                 "comma-separated: overlap, near, separated, gap, trajectory, all (all: the first three)")
       ->capture_default_str();
   app.add_option("--poses-file", o.poses_file, "read poses (12 numbers a line) instead of generating them");
   app.add_option("--write-poses", o.write_poses_file, "save the generated poses");
@@ -147,7 +147,7 @@ std::optional<Selection> parse_selection(const Options& o, std::vector<tb::Engin
       } else if (auto s = tb::parse_scenario(name)) {
         sel.scenarios.push_back(*s);
       } else {
-        std::cerr << "tightbvh-bench: unknown scenario '" << name << "' (overlap, near, separated, gap, all)\n";
+        std::cerr << "tightbvh-bench: unknown scenario '" << name << "' (overlap, near, separated, gap, trajectory, all)\n";
         return std::nullopt;
       }
     }

@@ -17,12 +17,13 @@ std::string_view to_string(Scenario s) {
     case Scenario::near: return "near";
     case Scenario::separated: return "separated";
     case Scenario::gap: return "gap";
+    case Scenario::trajectory: return "trajectory";
   }
   return "?";
 }
 
 std::optional<Scenario> parse_scenario(std::string_view name) {
-  for (Scenario s : {Scenario::overlap, Scenario::near, Scenario::separated, Scenario::gap})
+  for (Scenario s : {Scenario::overlap, Scenario::near, Scenario::separated, Scenario::gap, Scenario::trajectory})
     if (to_string(s) == name) return s;
   return std::nullopt;
 }
@@ -97,6 +98,41 @@ double offset_for_gap(const Sphere& sa, const Sphere& sb, const Mat3& rotation, 
   return hi;
 }
 
+// One pass of the trajectory scenario (see poses.hpp): `count` consecutive poses, or none when the
+// approach line misses A at a key frame (the caller draws another pass).
+std::vector<Pose> trajectory_pass(const Sphere& sa, const Sphere& sb, int count, std::mt19937_64& rng,
+                                  const std::function<bool(const Pose&)>& collides) {
+  constexpr int kKeyEvery = 10;
+  const Mat3 r0 = random_rotation(rng);
+  const Vec3 spin = random_direction(rng), d0 = random_direction(rng);
+  Vec3 turn = d0.cross(random_direction(rng));
+  if (turn.norm() < 1e-6) turn = d0.unitOrthogonal();
+  turn.normalize();
+  const auto t_of = [&](int i) { return count > 1 ? double(i) / (count - 1) : 0.0; };
+  const auto rotation = [&](double t) -> Mat3 { return Eigen::AngleAxisd(0.5 * t, spin).toRotationMatrix() * r0; };
+  const auto direction = [&](double t) -> Vec3 { return Eigen::AngleAxisd(0.5 * t, turn) * d0; };
+  // First contact at the key frames 0, kKeyEvery, ..., and at the last pose.
+  std::vector<int> keys;
+  for (int i = 0; i < count; i += kKeyEvery) keys.push_back(i);
+  if (keys.back() != count - 1) keys.push_back(count - 1);
+  std::vector<double> contact;
+  for (const int k : keys) {
+    const double s = first_contact(sa, sb, rotation(t_of(k)), direction(t_of(k)), collides);
+    if (s <= 0) return {};
+    contact.push_back(s);
+  }
+  std::vector<Pose> poses;
+  for (int i = 0; i < count; ++i) {
+    const std::size_t k = std::min<std::size_t>(i / kKeyEvery, keys.size() - 2);
+    const double w = keys.size() > 1 ? double(i - keys[k]) / (keys[k + 1] - keys[k]) : 0.0;
+    const double s = keys.size() > 1 ? (1 - w) * contact[k] + w * contact[k + 1] : contact[0];
+    const double t = t_of(i);
+    const double offset = 0.15 * std::cos(2.0 * M_PI * t) * sb.radius;
+    poses.push_back(place(rotation(t), sb.center, sa.center + (s + offset) * direction(t)));
+  }
+  return poses;
+}
+
 }  // namespace
 
 std::vector<Pose> generate_poses(const Mesh& a, const Mesh& b, Scenario scenario, int count, std::uint64_t seed,
@@ -111,6 +147,16 @@ std::vector<Pose> generate_poses(const Mesh& a, const Mesh& b, Scenario scenario
   std::vector<Pose> poses;
   poses.reserve(count);
   int attempts = 0;
+  if (scenario == Scenario::trajectory) {
+    while (int(poses.size()) < count) {
+      const int n = std::min(kTrajectoryPass, count - int(poses.size()));
+      std::vector<Pose> pass = trajectory_pass(sa, sb, n, rng, collides);
+      if (pass.empty() && ++attempts < 100) continue;  // the line missed A: another pass
+      if (pass.empty()) throw std::runtime_error("generate_poses: trajectory found no contact in 100 passes");
+      poses.insert(poses.end(), pass.begin(), pass.end());
+    }
+    return poses;
+  }
   while (int(poses.size()) < count) {
     const Mat3 rot = random_rotation(rng);
     const Vec3 dir = random_direction(rng);

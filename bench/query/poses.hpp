@@ -14,7 +14,7 @@
 
 namespace tightbvh::bench {
 
-enum class Scenario { overlap, near, separated, gap };
+enum class Scenario { overlap, near, separated, gap, trajectory };
 [[nodiscard]] std::string_view to_string(Scenario s);
 [[nodiscard]] std::optional<Scenario> parse_scenario(std::string_view name);
 
@@ -32,6 +32,12 @@ struct Sphere {
 //   separated: first contact pushed out by 5..25% of B's bounding radius (close but apart)
 //   gap:       first contact pushed out along the same line until the meshes are 0.5..5% of the
 //              larger AABB diagonal apart (bisection on `distance`, to 0.1% of the gap)
+//   trajectory: coherent sequences (QueryCache): passes of kTrajectoryPass consecutive poses along a
+//              smooth path; B turns by 0.5 rad about a random axis while its approach direction
+//              turns by 0.5 rad, and moves from 15% of its bounding radius outside first contact to
+//              15% inside and back out (offset 0.15 cos(2 pi t) r_B from the first contact, which
+//              is bisected every 10 poses and interpolated linearly in between)
+inline constexpr int kTrajectoryPass = 100;
 // Rotations are uniform random. Deterministic for a given seed.
 [[nodiscard]] std::vector<Pose> generate_poses(const Mesh& a, const Mesh& b, Scenario scenario, int count,
                                                std::uint64_t seed,

@@ -37,4 +37,10 @@ if grep -E '^(tightbvh|fcl)' distance.txt | grep -q MISMATCH; then cat distance.
 # Margin mode: our pair sets equal the reference's exactly.
 "$bench" --modes margin --scenario near --poses 3 --engines tightbvh-pca --repetitions 1 > margin.txt
 grep -qE '^tightbvh-pca +margin .* ok$' margin.txt || { cat margin.txt; fail "margin"; }
+# Trajectory scenario with the QueryCache engines: the same answers as the reference, and their
+# speed-up over the cold engines is printed.
+"$bench" --scenario trajectory --poses 12 --engines tightbvh-pca,tightbvh-auto,tightbvh-auto-qc --repetitions 1 \
+  > trajectory.txt
+[ "$(grep -cE '^tightbvh-auto-qc +(first_hit|all_pairs) .* ok$' trajectory.txt)" = 2 ] || { cat trajectory.txt; fail "trajectory"; }
+grep -q 'QueryCache (front tracking, -qc' trajectory.txt || { cat trajectory.txt; fail "no QueryCache speed-up"; }
 echo "test-bench: ok"

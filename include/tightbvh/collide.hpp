@@ -26,6 +26,7 @@
 
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/pose.hpp"
+#include "tightbvh/query_cache.hpp"
 #include "tightbvh/query_workspace.hpp"
 #include "tightbvh/tree.hpp"
 
@@ -91,6 +92,14 @@ struct QueryResult {
 [[nodiscard]] QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa,  //
                                   const Tree& b, const Mesh& mb, const Pose& pb,  //
                                   const QueryOptions& options, QueryWorkspace& workspace);
+// Coherent sequences (a simulation loop): the same answer, starting from the front the previous
+// query on the same trees left in `cache` (query_cache.hpp). all_pairs: the same pairs; first_hit:
+// the same hit flag, and the pair reported is the first found (the previous hit's leaf pair is
+// tried first), which may differ from the cold query's. stats count the tests this query did.
+// Any mode, margin and descend rule; trees other than the cache's restart from the roots.
+[[nodiscard]] QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa,  //
+                                  const Tree& b, const Mesh& mb, const Pose& pb,  //
+                                  const QueryOptions& options, QueryCache& cache);
 
 // One query per pose of B (A at pa), spread over `threads` threads (0: hardware concurrency).
 // Results are in pose order and identical for any thread count. When queries throw, the

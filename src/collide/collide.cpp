@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "../tree/parallel.hpp"
+#include "query_cache.hpp"
 #include "query_common.hpp"
 #include "query_workspace.hpp"
 #include "tightbvh/obb_overlap.hpp"
@@ -24,12 +25,12 @@ using query_detail::map_point;
 constexpr std::uint32_t kLeafChunk = 32;
 
 // WithMargin: pairs within options.margin (boxes inflated by it); without: touching pairs, the
-// code of margin-free collide unchanged.
-template <bool FirstHit, bool WithMargin = false>
+// code of margin-free collide unchanged. walk(test, leaves) runs the descent: traverse_pairs from
+// the roots, or traverse_front from a QueryCache's front.
+template <bool FirstHit, bool WithMargin, class Walker>
 void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& mb, const Pose& rel,
-                   const QueryOptions& options, QueryWorkspace::Scratch& ws, QueryResult& result) {
+                   const QueryOptions& options, QueryWorkspace::Scratch& ws, QueryResult& result, Walker&& walk) {
   using namespace query_detail;
-  const DescendRule rule = options.descend;
   double margin = box_allowance(ta, tb, rel);
   if constexpr (WithMargin) margin += options.margin;
   std::uint64_t box_tests = 0, triangle_tests = 0;
@@ -76,7 +77,7 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
     }
     return Walk::go_on;
   };
-  traverse_pairs(ta, tb, rule, ws.stack, boxes_overlap, triangles_touch);
+  walk(boxes_overlap, triangles_touch);
   result.stats.box_tests += box_tests;
   result.stats.triangle_tests += triangle_tests;
 }
@@ -100,30 +101,62 @@ QueryWorkspace::~QueryWorkspace() = default;
 QueryWorkspace::QueryWorkspace(QueryWorkspace&&) noexcept = default;
 QueryWorkspace& QueryWorkspace::operator=(QueryWorkspace&&) noexcept = default;
 
-QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,
-                    const QueryOptions& options, QueryWorkspace& workspace) {
+namespace {
+
+// The checks and the dispatch on mode and margin shared by the collide overloads. `start` runs
+// once the inputs are checked (binding a cache); walk(test, leaves) as in collide_trees.
+template <class Start, class Walker>
+QueryResult collide_with(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,
+                         const QueryOptions& options, QueryWorkspace::Scratch& ws, Start&& start, Walker&& walk) {
   QueryResult result;
   if (a.nodes.empty() || b.nodes.empty()) return result;
   query_detail::check_tree_fits_mesh("collide", a, ma, "A");
   query_detail::check_tree_fits_mesh("collide", b, mb, "B");
   check_margin(options.margin);
+  start();
   const Pose rel = relative_pose(pa, pb);
-  QueryWorkspace::Scratch& ws = workspace.scratch();
   const bool first = options.mode == QueryMode::first_hit;
   if (options.margin == 0.0) {
     if (first)
-      collide_trees<true>(a, ma, b, mb, rel, options, ws, result);
+      collide_trees<true, false>(a, ma, b, mb, rel, options, ws, result, walk);
     else
-      collide_trees<false>(a, ma, b, mb, rel, options, ws, result);
+      collide_trees<false, false>(a, ma, b, mb, rel, options, ws, result, walk);
   } else {
     if (first)
-      collide_trees<true, true>(a, ma, b, mb, rel, options, ws, result);
+      collide_trees<true, true>(a, ma, b, mb, rel, options, ws, result, walk);
     else
-      collide_trees<false, true>(a, ma, b, mb, rel, options, ws, result);
+      collide_trees<false, true>(a, ma, b, mb, rel, options, ws, result, walk);
   }
   if (!first) finish(result);
   return result;
 }
+
+}  // namespace
+
+QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,
+                    const QueryOptions& options, QueryWorkspace& workspace) {
+  QueryWorkspace::Scratch& ws = workspace.scratch();
+  return collide_with(
+      a, ma, pa, b, mb, pb, options, ws, [] {},
+      [&](auto& test, auto& leaves) { query_detail::traverse_pairs(a, b, options.descend, ws.stack, test, leaves); });
+}
+
+QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,
+                    const QueryOptions& options, QueryCache& cache) {
+  QueryCache::State& st = cache.state();
+  const bool first = options.mode == QueryMode::first_hit;
+  return collide_with(
+      a, ma, pa, b, mb, pb, options, st.scratch, [&] { st.bind(a, b); },
+      [&](auto& test, auto& leaves) { query_detail::traverse_front(a, b, options.descend, st, first, test, leaves); });
+}
+
+QueryCache::QueryCache() : state_(std::make_unique<State>()) {}
+QueryCache::~QueryCache() = default;
+QueryCache::QueryCache(QueryCache&&) noexcept = default;
+QueryCache& QueryCache::operator=(QueryCache&&) noexcept = default;
+void QueryCache::clear() { state_->clear(); }
+std::size_t QueryCache::front_size() const { return state_->front.size(); }
+std::uint64_t QueryCache::resets() const { return state_->resets; }
 
 QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,
                     const QueryOptions& options) {

@@ -1,0 +1,56 @@
+#pragma once
+// Front tracking for coherent sequences of collide() queries on one pair of trees (a simulation
+// loop: consecutive poses are close). Generalized front tracking in the spirit of Ehmann & Lin
+// (2001, "Accurate and fast proximity queries between polyhedra using convex surface
+// decomposition", Sec. 5) and FCL's BVHFrontList.
+//
+// The cache stores the *front* of the previous descent: the node pairs where it stopped (pairs
+// whose boxes were apart, and leaf pairs). Their leaf-pair sets always partition
+// leaves(A) x leaves(B), so starting the next descent from them instead of the roots reports the
+// same touching triangle pairs (box tests are conservative, triangle tests exact). Each query
+// descends where front pairs now overlap and lifts the front back up where two sibling pairs have
+// stayed apart for a while and their parent pair is apart too (with an exponential back-off when
+// the parent still overlaps), so the front follows the contact region instead of only growing.
+//
+// first_hit: the leaf pair that touched last time is tried first (a "witness", as in
+// Lin-Canny's feature caching), then the front in order; the hit flag equals the cold query's,
+// but the pair reported may differ (any touching pair is a valid answer).
+//
+// The front depends only on the two trees' topology. The cache records which trees (address,
+// node buffer, node and triangle counts) filled it; a query on other trees, or with A and B
+// swapped, starts over from the roots (resets() counts it). refit() keeps the topology, so a
+// cache stays valid across refits; a tree rebuilt in place inside the same node buffer with the
+// same counts cannot be told apart: call clear() after rebuilding a tree.
+//
+// Not thread-safe: one cache per sequence (it also holds the query scratch, so no QueryWorkspace
+// is needed with it).
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+namespace tightbvh {
+
+class QueryCache {
+ public:
+  QueryCache();
+  ~QueryCache();
+  QueryCache(QueryCache&&) noexcept;
+  QueryCache& operator=(QueryCache&&) noexcept;
+  QueryCache(const QueryCache&) = delete;
+  QueryCache& operator=(const QueryCache&) = delete;
+
+  // Forget the front: the next query starts at the roots.
+  void clear();
+  // Node pairs in the stored front (0 before the first query and after clear()).
+  [[nodiscard]] std::size_t front_size() const;
+  // Queries that found other trees than the stored front's and started over from the roots.
+  [[nodiscard]] std::uint64_t resets() const;
+
+  struct State;  // internal (src/collide/query_cache.hpp)
+  [[nodiscard]] State& state() { return *state_; }
+
+ private:
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace tightbvh

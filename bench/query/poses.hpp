@@ -14,7 +14,7 @@
 
 namespace tightbvh::bench {
 
-enum class Scenario { overlap, near, separated, gap };
+enum class Scenario { overlap, near, separated, gap, inside };
 [[nodiscard]] std::string_view to_string(Scenario s);
 [[nodiscard]] std::optional<Scenario> parse_scenario(std::string_view name);
 
@@ -32,11 +32,15 @@ struct Sphere {
 //   separated: first contact pushed out by 5..25% of B's bounding radius (close but apart)
 //   gap:       first contact pushed out along the same line until the meshes are 0.5..5% of the
 //              larger AABB diagonal apart (bisection on `distance`, to 0.1% of the gap)
+//   inside:    B's center anywhere in A's box grown by B's radius, kept when `contained` (one
+//              mesh wholly inside the other, surfaces apart); InputError when none is found
+//              (meshes of similar size: shrink B with tightbvh-bench --scale-b)
 // Rotations are uniform random. Deterministic for a given seed.
 [[nodiscard]] std::vector<Pose> generate_poses(const Mesh& a, const Mesh& b, Scenario scenario, int count,
                                                std::uint64_t seed,
                                                const std::function<bool(const Pose&)>& collides,
-                                               const std::function<double(const Pose&)>& distance = {});
+                                               const std::function<double(const Pose&)>& distance = {},
+                                               const std::function<bool(const Pose&)>& contained = {});
 
 // One pose per line: r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz; '#' starts a comment.
 // Throws InputError naming the file and line on a wrong count, a non-number, NaN/Inf or a

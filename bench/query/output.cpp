@@ -115,7 +115,8 @@ void print_verdict(std::ostream& out, const std::vector<Row>& rows) {
     for (const Row& f : rows) {
       if (f.mode != Mode::first_hit || f.engine != s.engine || f.scenario != s.scenario || f.qps() <= 0) continue;
       const double cost = f.qps() / s.qps();
-      if (!solid_header) out << "\nsolid first_hit vs plain first_hit, same engine and poses (target 1.2x where surfaces touch):\n";
+      if (!solid_header)
+        out << "\nsolid first_hit vs plain first_hit, same engine and poses (target 1.2x where surfaces touch):\n";
       solid_header = true;
       std::snprintf(line, sizeof line, "  %-10s solid     %-16s costs %5.2fx its first_hit (%zu vs %zu hits)\n",
                     s.scenario.c_str(), s.engine.c_str(), cost, s.hits, f.hits);

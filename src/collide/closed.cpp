@@ -99,8 +99,8 @@ Closedness check_closed(const Mesh& mesh) {
 
 void require_closed(const Closedness& closedness, const Mesh& mesh, const std::string& who, const std::string& which) {
   if (closedness.vertex_count != mesh.vertices.size() || closedness.triangle_count != mesh.triangles.size())
-    throw InputError(who + ": the closedness given for mesh " + (which.empty() ? "" : which + " ") + "is of another mesh (" +
-                     std::to_string(closedness.vertex_count) + " vertices, " +
+    throw InputError(who + ": the closedness given for mesh " + (which.empty() ? "" : which + " ") +
+                     "is of another mesh (" + std::to_string(closedness.vertex_count) + " vertices, " +
                      std::to_string(closedness.triangle_count) + " triangles; the mesh has " +
                      std::to_string(mesh.vertices.size()) + " and " + std::to_string(mesh.triangles.size()) + ")");
   if (!closedness.closed)

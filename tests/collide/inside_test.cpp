@@ -88,7 +88,8 @@ void expect_random_points(const Mesh& m, int count, std::uint64_t seed) {
   int inside = 0, outside = 0, decisive = 0;
   for (int i = 0; i < count; ++i) {
     Vec3 p;
-    for (int k = 0; k < 3; ++k) p[k] = box.min[k] - 0.05 * box.diagonal() + u(rng) * (box.max[k] - box.min[k] + 0.1 * box.diagonal());
+    const double grow = 0.05 * box.diagonal();
+    for (int k = 0; k < 3; ++k) p[k] = box.min[k] - grow + u(rng) * (box.max[k] - box.min[k] + 2 * grow);
     if (i % 4 == 3)
       for (int k = 0; k < 3; ++k) p[k] = std::round(p[k] * 16.0) / 16.0;  // grid points
     const Containment got = classify_point(t, m, c, p);
@@ -200,7 +201,8 @@ Outcomes expect_solid_matches_brute_force(const Mesh& ma, const Mesh& mb, int po
       EXPECT_NEAR((pa.apply(d.point_a_local) - d.point_a).norm(), 0.0, 1e-12 * (1 + d.point_a.norm()));
       EXPECT_NEAR((pb.apply(d.point_b_local) - d.point_b).norm(), 0.0, 1e-12 * (1 + d.point_b.norm()));
       // Independently: the witness point is inside the other solid by the winding number.
-      const double w = d.inside == Inside::b_in_a ? winding_number(ma, d.point_a_local) : winding_number(mb, d.point_b_local);
+      const double w = d.inside == Inside::b_in_a ? winding_number(ma, d.point_a_local)
+                                                  : winding_number(mb, d.point_b_local);
       EXPECT_NEAR(std::abs(w), 1.0, 0.25);
     }
     if (hit.hit && hit.inside == Inside::none) ++out.touching;
@@ -219,7 +221,8 @@ TEST(Solid, SmallMeshesMatchBruteForce) {
   const Outcomes a_in_b = expect_solid_matches_brute_force(small_cube, sphere, 40, 2);
   EXPECT_GT(a_in_b.a_in_b, 3);
   // A torus: in its tube, in its hole (apart), across its surface.
-  const Outcomes tube = expect_solid_matches_brute_force(torus(2.0, 0.5, 24, 12), transformed(octahedron(), 0.2), 40, 3);
+  const Outcomes tube =
+      expect_solid_matches_brute_force(torus(2.0, 0.5, 24, 12), transformed(octahedron(), 0.2), 40, 3);
   EXPECT_GT(tube.b_in_a, 3);
   EXPECT_GT(tube.apart, 3);
   EXPECT_GT(tube.touching, 3);
@@ -244,7 +247,8 @@ TEST(Solid, PiecesHolesAndCavities) {
   // B in two pieces, the far one first: the near one inside A decides.
   const Mesh two = merged(transformed(cube(), 0.2, Vec3(5, 0, 0)), transformed(cube(), 0.2, Vec3(-0.1, -0.1, -0.1)));
   const Closedness c2 = check_closed(two);
-  const QueryResult r = collide(ts, sphere, {}, tree_of(two), two, {}, {.solid = true, .closed_a = &cs, .closed_b = &c2});
+  const QueryResult r =
+      collide(ts, sphere, {}, tree_of(two), two, {}, {.solid = true, .closed_a = &cs, .closed_b = &c2});
   EXPECT_TRUE(r.hit);
   EXPECT_EQ(r.inside, Inside::b_in_a);
   EXPECT_TRUE(r.pairs.empty());

@@ -84,10 +84,10 @@ nlohmann::json tree_json(const std::string& fitter, const BuildResult& built, st
   }
   nlohmann::json levels(drawn_levels, nlohmann::json::array());
   // The root's box holds the mesh (an empty tree has no levels).
-  const Rounding rounding(built.tree.nodes.empty() ? 1.0 : scale_of(built.tree.nodes[0].box));
+  const Rounding rounding(built.tree.nodes.empty() ? 1.0 : scale_of(built.tree.nodes[0].box.obb()));
   for_each_node(built.tree, [&](const NodeVisit& v) {
     if (v.depth >= drawn_levels) return false;
-    append_box(levels[v.depth], v.node.box, rounding);
+    append_box(levels[v.depth], v.node.box.obb(), rounding);
     return true;
   });
   return {{"fitter", fitter},

@@ -169,7 +169,7 @@ std::string boxes_picture(const Tree& tree, int level, const View& view, const s
     const Node& n = tree.nodes[i];
     if (d == level || (n.is_leaf() && d < level)) {
       std::vector<std::pair<double, double>> pts;
-      for (const Vec3& c : n.box.corners()) pts.push_back(view(c));
+      for (const Vec3& c : n.box.obb().corners()) pts.push_back(view(c));
       s << "<polygon fill='" << kColors[k % 10] << "' fill-opacity='0.12' stroke='" << kColors[k % 10]
         << "' stroke-width='1' points='";
       for (const auto& [x, y] : hull2d(pts)) s << fmt(x, "%.1f") << ',' << fmt(y, "%.1f") << ' ';

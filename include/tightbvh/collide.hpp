@@ -15,8 +15,8 @@
 // (obb_overlap.hpp), splitting the larger box (by volume) first, an explicit stack (inline
 // buffer, heap only for very deep trees), B's boxes mapped into A's frame lazily once per query
 // and node (both in a QueryWorkspace), B's triangles mapped at the leaves. Boxes are tested with a
-// small margin (kBoxMargin times the meshes' scale) so that rounding and the fitters'
-// containment tolerance never cull a touching pair. No virtual calls.
+// small margin ((kBoxMargin + kCompactBoxSlack) times the meshes' scale) so that rounding and the
+// float boxes' slightly skew axes (compact_box.hpp) never cull a touching pair. No virtual calls.
 //
 // Thread safety: the query functions only read their inputs; any number of queries may run
 // concurrently, each with its own QueryWorkspace (the overloads without one make their own).
@@ -69,7 +69,8 @@ enum class Inside : std::uint8_t {
 };
 [[nodiscard]] const char* to_string(Inside inside);  // "none", "b_in_a", "a_in_b"
 
-// Relative margin of the box tests (times the sum of the two root boxes' scales).
+// Relative margin of the box tests for rounding in the transform (times the sum of the two root
+// boxes' scales); the queries add kCompactBoxSlack for the float boxes.
 inline constexpr double kBoxMargin = 1e-9;
 
 struct QueryStats {

@@ -6,8 +6,8 @@
 // vertices mapped into A's mesh frame by relative_pose(pa, pb) (collide.hpp).
 //
 // Traversal: the descent of PQP (Larsen et al. 2000), depth first over node pairs, with a lower
-// bound per node pair (obb_distance.hpp, minus a rounding allowance of kBoxMargin times the
-// scale, as collide()'s box test) and the pair with the smaller bound visited first; a node pair
+// bound per node pair (obb_distance.hpp, minus the allowance of collide()'s box test for rounding
+// and the float boxes' axes) and the pair with the smaller bound visited first; a node pair
 // is pruned when its bound cannot beat the best triangle pair so far (allowing for the requested
 // error). The walk ends at once when a touching pair (distance 0) is found. B's boxes are mapped
 // into A's frame lazily once per query and node (the QueryWorkspace's cache).

@@ -1,16 +1,16 @@
 #pragma once
 // Versioned binary save/load of a Tree.
 //
-// Layout (all integers and doubles little-endian):
+// Layout (all integers and floats little-endian):
 //   0  magic   "TBVHTREE"                                         8 bytes
 //   8  version u32 (kTreeFormatVersion)
-//  12  node_size u32 (128: bytes of one serialized node)
+//  12  node_size u32 (68: bytes of one serialized node)
 //  16  node_count u64
 //  24  triangle_count u64                                         (entries of triangle_order)
 //  32  checksum u64: FNV-1a 64 of bytes [16, 32) and of the payload
-//  40  payload: node_count nodes {center[3], axes[9] column-major, half_extents[3] (f64),
+//  40  payload: node_count nodes {center[3], axes[9] column-major, half_extents[3] (f32),
 //               first, count (u32)}, then triangle_count u32
-// The file size must be exactly 40 + node_count * 128 + triangle_count * 4, so a corrupt
+// The file size must be exactly 40 + node_count * 68 + triangle_count * 4, so a corrupt
 // count can never cause an allocation larger than the file.
 #include <cstddef>
 #include <cstdint>
@@ -23,7 +23,9 @@
 
 namespace tightbvh {
 
-inline constexpr std::uint32_t kTreeFormatVersion = 1;
+// Version 2: float boxes (compact_box.hpp). Version 1 files (double boxes) are refused with a
+// message saying to rebuild.
+inline constexpr std::uint32_t kTreeFormatVersion = 2;
 
 [[nodiscard]] std::vector<std::byte> serialize(const Tree& tree);
 

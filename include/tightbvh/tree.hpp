@@ -1,16 +1,18 @@
 #pragma once
 // The bounding-volume hierarchy: a flat node array, root at 0, the two children of an internal
 // node adjacent (left = first, right = first + 1), leaves owning a contiguous range of
-// `triangle_order` (indices into the mesh's triangles). Boxes are in the mesh frame.
+// `triangle_order` (indices into the mesh's triangles). Boxes are in the mesh frame, stored in
+// single precision and rounded outward from the fitted double boxes (compact_box.hpp): 68 bytes
+// per node.
 #include <cstdint>
 #include <vector>
 
-#include "tightbvh/obb.hpp"
+#include "tightbvh/compact_box.hpp"
 
 namespace tightbvh {
 
 struct Node {
-  Obb box;
+  CompactBox box;
   std::uint32_t first = 0;  // leaf: offset into Tree::triangle_order; internal: left child index
   std::uint32_t count = 0;  // leaf: number of triangles (> 0); internal: 0
 

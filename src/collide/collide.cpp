@@ -20,7 +20,6 @@
 namespace tightbvh {
 namespace {
 
-using query_detail::box_scale;
 using query_detail::map_point;
 
 // Number of B triangles mapped into A's frame at once in a leaf-leaf test.
@@ -33,27 +32,18 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
                    const QueryOptions& options, QueryWorkspace::Scratch& ws, QueryResult& result) {
   using namespace query_detail;
   const DescendRule rule = options.descend;
-  const Mat3& R = rel.rotation;
-  const Vec3& t = rel.translation;
-  double margin = kBoxMargin * (box_scale(ta.nodes[0].box) + box_scale(tb.nodes[0].box) + t.cwiseAbs().maxCoeff());
+  double margin = box_allowance(ta, tb, rel);
   if constexpr (WithMargin) margin += options.margin;
   std::uint64_t box_tests = 0, triangle_tests = 0;
   BoxCache& cache = ws.mapped_b;
   cache.begin(tb.nodes.size());
   const auto boxes_overlap = [&](std::uint32_t ia, std::uint32_t ib) {
-    const Obb& ba = ta.nodes[ia].box;
-    const Obb& bb = tb.nodes[ib].box;
-    // B's box in A's frame (cached), then in A's box frame: C = Aa^T (R Bb), Aa^T (R cb + t - ca).
+    const CompactBox& ba = ta.nodes[ia].box;
+    const CompactBox& bb = tb.nodes[ib].box;
     ++box_tests;
-    MappedBox& mapped_box = cache.boxes[ib];
-    if (cache.stamp[ib] != cache.epoch) {
-      cache.stamp[ib] = cache.epoch;
-      mapped_box.axes.noalias() = R * bb.axes;
-      mapped_box.center.noalias() = R * bb.center + t;
-    }
-    const Mat3 c = ba.axes.transpose() * mapped_box.axes;
-    const Vec3 d = ba.axes.transpose() * (mapped_box.center - ba.center);
-    return obb_overlap(c, d, ba.half_extents, bb.half_extents, margin);
+    const MappedBox& mapped = cache.mapped(ib, bb, rel);  // B's box in A's frame, once per query
+    const auto [c, d] = in_box_frame(ba, mapped.axes, mapped.center);
+    return obb_overlap(c, d, ba.half_extents_d(), bb.half_extents_d(), margin);
   };
   std::array<std::array<Vec3, 3>, kLeafChunk> mapped;
   const auto triangles_touch = [&](std::uint32_t ia_node, std::uint32_t ib_node) {

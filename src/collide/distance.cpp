@@ -39,8 +39,7 @@ class DistanceSearch {
   DistanceSearch(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& mb, const Pose& rel,
                  const DistanceOptions& options, QueryWorkspace::Scratch& ws)
       : ta_(ta), ma_(ma), tb_(tb), mb_(mb), rel_(rel), options_(options), ws_(ws) {
-    margin_ = kBoxMargin * (query_detail::box_scale(ta.nodes[0].box) + query_detail::box_scale(tb.nodes[0].box) +
-                            rel.translation.cwiseAbs().maxCoeff());
+    margin_ = query_detail::box_allowance(ta, tb, rel);
   }
 
   void run() {
@@ -68,21 +67,14 @@ class DistanceSearch {
 
  private:
   // Never more than the distance between the two nodes' triangles: the box bound minus the
-  // allowance for rounding in the transform and the fitters' containment tolerance.
+  // allowance for rounding in the transform and the float boxes' axes (as collide's box test).
   double lower_bound(std::uint32_t ia, std::uint32_t ib) {
     ++stats_.node_pairs;
-    const Obb& ba = ta_.nodes[ia].box;
-    const Obb& bb = tb_.nodes[ib].box;
-    query_detail::BoxCache& cache = ws_.mapped_b;
-    query_detail::MappedBox& mapped = cache.boxes[ib];
-    if (cache.stamp[ib] != cache.epoch) {
-      cache.stamp[ib] = cache.epoch;
-      mapped.axes.noalias() = rel_.rotation * bb.axes;
-      mapped.center.noalias() = rel_.rotation * bb.center + rel_.translation;
-    }
-    const Mat3 c = ba.axes.transpose() * mapped.axes;
-    const Vec3 d = ba.axes.transpose() * (mapped.center - ba.center);
-    return std::max(0.0, obb_distance_lower_bound(c, d, ba.half_extents, bb.half_extents) - margin_);
+    const CompactBox& ba = ta_.nodes[ia].box;
+    const CompactBox& bb = tb_.nodes[ib].box;
+    const query_detail::MappedBox& mapped = ws_.mapped_b.mapped(ib, bb, rel_);
+    const auto [c, d] = query_detail::in_box_frame(ba, mapped.axes, mapped.center);
+    return std::max(0.0, obb_distance_lower_bound(c, d, ba.half_extents_d(), bb.half_extents_d()) - margin_);
   }
 
   // The pair cannot hold a triangle pair that beats the best so far by more than the allowed

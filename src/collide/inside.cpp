@@ -18,8 +18,10 @@ namespace {
 using detail::orient2d;
 using detail::orient3d;
 
-// The one place that reads a node's box (node storage may change; see tree.hpp).
-[[nodiscard]] const Obb& box_of(const Node& node) { return node.box; }
+// A node's float box in double (exact conversion). Its axes are orthonormal only to ~2e-7, but
+// the box is the slab box { x : |a_i . (x - c)| <= e_i } of exactly these axes (compact_box.hpp),
+// which is what the slab test below evaluates: only the transforms' rounding needs a margin.
+[[nodiscard]] Obb box_of(const Node& node) { return node.box.obb(); }
 
 // p on the closed segment uv (exact).
 [[nodiscard]] bool on_segment(const Vec3& u, const Vec3& v, const Vec3& p) {
@@ -64,9 +66,9 @@ enum class Meet : std::uint8_t { miss, cross, degenerate, on_surface };
   return Meet::degenerate;
 }
 
-// May the segment pq (box frame of the tree) meet the box? A slab test on the box inflated by
-// `margin`, which absorbs the rounding of the transforms and the fitters' containment tolerance
-// (as collide()'s box test), so a triangle the segment meets is never culled.
+// May the segment pq (frame of the tree) meet the box? A slab test on the box inflated by `margin`,
+// which absorbs the rounding of the transforms (with the queries' allowance for float boxes on
+// top), so a triangle the segment meets is never culled.
 [[nodiscard]] bool segment_meets_box(const Obb& box, const Vec3& p, const Vec3& q, double margin) {
   const Vec3 lp = box.to_local(p), lq = box.to_local(q);
   double t0 = 0.0, t1 = 1.0;
@@ -156,14 +158,15 @@ template <class Corner>
 [[nodiscard]] Containment classify_with_tree(const Tree& tree, const Mesh& mesh, const Corner& corner,
                                              const Pose* to_tree, const Vec3& p, std::vector<std::uint32_t>& stack) {
   if (tree.nodes.empty()) return Containment::outside;
-  const Obb& root = box_of(tree.nodes[0]);
+  const Obb root = box_of(tree.nodes[0]);
   const Vec3 pt = to_tree != nullptr ? to_tree->apply(p) : p;
-  const double margin = kBoxMargin * (query_detail::box_scale(root) + pt.cwiseAbs().maxCoeff());
+  const double margin =
+      (kBoxMargin + kCompactBoxSlack) * (query_detail::box_scale(tree.nodes[0].box) + pt.cwiseAbs().maxCoeff());
   // Outside the root box is outside the surface's hull (the common case for separated meshes).
   if (!root.contains(pt, margin)) return Containment::outside;
   return classify_by_rays(p, to_tree, root.center, root.half_extents,
                           [&](const Vec3& p, const Vec3& q, const Vec3& pt, const Vec3& qt, Ray& ray) {
-                            const double m = margin + kBoxMargin * qt.cwiseAbs().maxCoeff();
+                            const double m = margin + (kBoxMargin + kCompactBoxSlack) * qt.cwiseAbs().maxCoeff();
                             stack.clear();
                             stack.push_back(0);
                             while (!stack.empty()) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <string>
 
+#include "tightbvh/collide.hpp"
+#include "tightbvh/compact_box.hpp"
 #include "tightbvh/error.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/obb.hpp"
@@ -22,9 +24,27 @@ namespace tightbvh::query_detail {
           r(2, 0) * v.x() + r(2, 1) * v.y() + r(2, 2) * v.z() + t.z()};
 }
 
-// The size that scales the box tests' rounding allowance (kBoxMargin times the sum of both).
-[[nodiscard]] inline double box_scale(const Obb& box) {
-  return box.center.cwiseAbs().maxCoeff() + box.half_extents.cwiseAbs().maxCoeff();
+// The size that scales the box tests' allowance.
+[[nodiscard]] inline double box_scale(const CompactBox& box) {
+  return box.center_d().cwiseAbs().maxCoeff() + box.half_extents_d().cwiseAbs().maxCoeff();
+}
+
+// What every box test of a query adds to the projected radii: kBoxMargin for the rounding in the
+// transform and kCompactBoxSlack for the float boxes' axes (compact_box.hpp), both relative to
+// the scale of the two roots and of the relative translation.
+[[nodiscard]] inline double box_allowance(const Tree& ta, const Tree& tb, const Pose& rel) {
+  return (kBoxMargin + kCompactBoxSlack) *
+         (box_scale(ta.nodes[0].box) + box_scale(tb.nodes[0].box) + rel.translation.cwiseAbs().maxCoeff());
+}
+
+// B's mapped box in A's box frame, obb_overlap()'s frame: C = Aa^T (R Bb), d = Aa^T (R cb + t - ca).
+struct BoxFrame {
+  Mat3 c;
+  Vec3 d;
+};
+[[nodiscard]] inline BoxFrame in_box_frame(const CompactBox& a, const Mat3& b_axes, const Vec3& b_center) {
+  const Mat3 axes_t = a.axes_d().transpose();
+  return {axes_t * b_axes, axes_t * (b_center - a.center_d())};
 }
 
 // O(1) guard against the common mistake of pairing a tree with another mesh, which would

@@ -4,7 +4,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "tightbvh/compact_box.hpp"
 #include "tightbvh/math.hpp"
+#include "tightbvh/pose.hpp"
 #include "tightbvh/query_workspace.hpp"
 #include "traverse.hpp"
 
@@ -21,6 +23,17 @@ struct BoxCache {
   std::vector<MappedBox> boxes;
   std::vector<std::uint32_t> stamp;
   std::uint32_t epoch = 0;
+
+  // Node `i`'s box `box` of B mapped by `rel` (B's frame to A's frame).
+  const MappedBox& mapped(std::uint32_t i, const CompactBox& box, const Pose& rel) {
+    MappedBox& m = boxes[i];
+    if (stamp[i] != epoch) {
+      stamp[i] = epoch;
+      m.axes.noalias() = rel.rotation * box.axes_d();
+      m.center.noalias() = rel.rotation * box.center_d() + rel.translation;
+    }
+    return m;
+  }
 
   void begin(std::size_t nodes) {
     if (boxes.size() < nodes) {

@@ -57,8 +57,9 @@ class PairStack {
 };
 
 // The size that DescendRule compares.
-[[nodiscard]] inline double descend_size(const Obb& box, DescendRule rule) {
-  return rule == DescendRule::larger_volume ? box.half_extents.prod() : box.half_extents.maxCoeff();
+[[nodiscard]] inline double descend_size(const CompactBox& box, DescendRule rule) {
+  const Vec3 e = box.half_extents_d();
+  return rule == DescendRule::larger_volume ? e.prod() : e.maxCoeff();
 }
 
 // Walks the node pairs of non-empty trees ta x tb. Returns Walk::stop when `leaves` stopped it.

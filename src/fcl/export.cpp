@@ -42,8 +42,8 @@ class Planner {
     const std::vector<TriangleRange> ranges = triangle_ranges(tree_);
     for_each_node(tree_, [&](const NodeVisit& v) {
       const TriangleRange& r = ranges[v.index];
-      if (v.node.is_leaf()) return split_leaf(v.node.box, std::uint32_t(r.begin), std::uint32_t(r.size()));
-      plan_.nodes.push_back({v.node.box, std::uint32_t(r.begin), std::uint32_t(r.size()),
+      if (v.node.is_leaf()) return split_leaf(v.node.box.obb(), std::uint32_t(r.begin), std::uint32_t(r.size()));
+      plan_.nodes.push_back({v.node.box.obb(), std::uint32_t(r.begin), std::uint32_t(r.size()),
                              std::uint32_t(ranges[v.node.first].size())});
     });
     plan_.position.assign(mesh_.triangles.size(), 0);
@@ -224,12 +224,25 @@ fcl::OBB<double> to_fcl_obb(const Obb& box) {
 }
 
 fcl::RSS<double> fit_rss(const Obb& box, std::span<const Vec3> points) {
+  // FCL's RSS is a rectangle in a rotation frame: orthonormalise the box's axes (a tree's float
+  // axes are orthonormal only to about 1e-7, compact_box.hpp) and measure the points in it.
+  if (points.empty()) throw InputError("fit_rss: an RSS needs at least one point");
   const fcl::OBB<double> obb = to_fcl_obb(box);
-  const Mat3& axes = obb.axis;
+  Mat3 axes;
+  axes.col(0) = obb.axis.col(0).normalized();
+  axes.col(1) = (obb.axis.col(1) - axes.col(0).dot(obb.axis.col(1)) * axes.col(0)).normalized();
+  axes.col(2) = axes.col(0).cross(axes.col(1));
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Vec3& p : points) {
+    const Vec3 q = axes.transpose() * (p - obb.To);
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  const Vec3 center = obb.To + axes * (0.5 * (lo + hi));
   std::vector<Vec3> local;
   local.reserve(points.size());
-  for (const Vec3& p : points) local.push_back(axes.transpose() * (p - obb.To));
-  const double h0 = obb.extent[0], h1 = obb.extent[1], h2 = obb.extent[2];
+  for (const Vec3& p : points) local.push_back(axes.transpose() * (p - center));
+  const double h0 = 0.5 * (hi[0] - lo[0]), h1 = 0.5 * (hi[1] - lo[1]), h2 = 0.5 * (hi[2] - lo[2]);
   const double pi = 3.14159265358979323846;
   fcl::RSS<double> best;
   double best_volume = std::numeric_limits<double>::infinity();
@@ -248,7 +261,7 @@ fcl::RSS<double> fit_rss(const Obb& box, std::span<const Vec3> points) {
     if (volume < best_volume) {
       best_volume = volume;
       best.axis = axes;
-      best.To = obb.To + axes * Vec3(-a, -b, 0);
+      best.To = center + axes * Vec3(-a, -b, 0);
       best.l[0] = 2 * a;
       best.l[1] = 2 * b;
       best.r = r;

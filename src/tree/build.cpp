@@ -70,7 +70,8 @@ class Builder {
 
   // Fits the node's box; returns the split point (begin < mid < end), or `end` for a leaf.
   Index process(Node& node, Index begin, Index end, Scratch& scratch) {
-    node.box = fit(begin, end, scratch);
+    const Obb fitted = fit(begin, end, scratch);
+    node.box = compact_box(fitted, node_corners(begin, end));
     if (end - begin <= options_.leaf_size) {
       node.first = begin;
       node.count = end - begin;
@@ -79,7 +80,7 @@ class Builder {
     const std::size_t n = end - begin;
     return begin + static_cast<Index>(detail::split(options_.split, std::span<Index>(order_).subspan(begin, n),
                                                     std::span<Vec3>(corners_).subspan(3 * std::size_t{begin}, 3 * n),
-                                                    node.box, scratch.split));
+                                                    fitted, scratch.split));
   }
 
   // Builds the subtree of [begin, end) whose root is nodes[root] depth first, allocating child
@@ -123,12 +124,14 @@ class Builder {
     return scratch.vertices;
   }
 
-  [[nodiscard]] Obb fit(Index begin, Index end, Scratch& scratch) const {
-    const auto corners = std::span<const Vec3>(corners_).subspan(3 * std::size_t{begin}, 3 * std::size_t{end - begin});
-    return detail::fit_node(corners, options_.fitter, options_.fit, scratch.fit,
-                            [&] { return node_vertices(begin, end, scratch); });
+  [[nodiscard]] std::span<const Vec3> node_corners(Index begin, Index end) const {
+    return std::span<const Vec3>(corners_).subspan(3 * std::size_t{begin}, 3 * std::size_t{end - begin});
   }
 
+  [[nodiscard]] Obb fit(Index begin, Index end, Scratch& scratch) const {
+    return detail::fit_node(node_corners(begin, end), options_.fitter, options_.fit, scratch.fit,
+                            [&] { return node_vertices(begin, end, scratch); });
+  }
 
   const Mesh& mesh_;
   const BuildOptions& options_;

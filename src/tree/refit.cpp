@@ -273,14 +273,14 @@ class PcaKernel {
     for (std::size_t p = range.begin; p < range.end; ++p)
       m.add_triangle(corners_[3 * p], corners_[3 * p + 1], corners_[3 * p + 2], corners_only_);
     const std::optional<Obb> triangle = range.size() == 1 ? single(range.begin) : std::nullopt;
-    node.box = triangle ? *triangle : box(m, range);
+    node.box = compact_box(triangle ? *triangle : box(m, range), node_corners(range));
     return m;
   }
 
   // The left child's origin is the parent's (both start at range.begin): only the right one moves.
   Value internal(Node& node, Range range, Value left, const Value& right, Scratch& /*scratch*/) const {
     left.add(right, corners_only_);
-    node.box = box(left, range);
+    node.box = compact_box(box(left, range), node_corners(range));
     return left;
   }
 
@@ -289,8 +289,12 @@ class PcaKernel {
     return detail::triangle_box({corners_[3 * p], corners_[3 * p + 1], corners_[3 * p + 2]});
   }
 
+  [[nodiscard]] std::span<const Vec3> node_corners(Range range) const {
+    return corners_.subspan(3 * std::size_t{range.begin}, 3 * std::size_t{range.size()});
+  }
+
   [[nodiscard]] Obb box(const Moments& m, Range range) const {
-    const auto corners = corners_.subspan(3 * std::size_t{range.begin}, 3 * std::size_t{range.size()});
+    const auto corners = node_corners(range);
     // Zero total area: pca_triangle_axes falls back to the corners' covariance (rare: computed from
     // the node's corners rather than carried up the tree).
     const Mat3 axes = corners_only_  ? fit_detail::principal_axes(m.corner_covariance())
@@ -325,9 +329,11 @@ class FitKernel {
   }
 
  private:
-  [[nodiscard]] Obb fit(Range range, FitWorkspace& workspace) const {
+  [[nodiscard]] CompactBox fit(Range range, FitWorkspace& workspace) const {
     const auto corners = corners_.subspan(3 * std::size_t{range.begin}, 3 * std::size_t{range.size()});
-    return detail::fit_node(corners, options_.fitter, options_.fit, workspace, [] { return std::span<const Vec3>{}; });
+    const Obb fitted =
+        detail::fit_node(corners, options_.fitter, options_.fit, workspace, [] { return std::span<const Vec3>{}; });
+    return compact_box(fitted, corners);
   }
 
   std::span<const Vec3> corners_;

@@ -15,7 +15,7 @@ namespace {
 
 constexpr std::array<char, 8> kMagic{'T', 'B', 'V', 'H', 'T', 'R', 'E', 'E'};
 constexpr std::size_t kHeaderSize = 40;
-constexpr std::size_t kNodeSize = 15 * 8 + 2 * 4;  // 128
+constexpr std::size_t kNodeSize = 15 * 4 + 2 * 4;  // 68
 constexpr std::size_t kChecksumOffset = 32;
 
 // Explicit little-endian encoding: the file is the same on every host.
@@ -59,10 +59,10 @@ std::vector<std::byte> serialize(const Tree& tree) {
   put_u64(&out[24], t);
   std::byte* p = out.data() + kHeaderSize;
   for (const Node& node : tree.nodes) {
-    const auto put_f64 = [&p](double v) { put_u64(p, std::bit_cast<std::uint64_t>(v)), p += 8; };
-    for (int i = 0; i < 3; ++i) put_f64(node.box.center[i]);
-    for (int i = 0; i < 9; ++i) put_f64(node.box.axes(i % 3, i / 3));
-    for (int i = 0; i < 3; ++i) put_f64(node.box.half_extents[i]);
+    const auto put_f32 = [&p](float v) { put_u32(p, std::bit_cast<std::uint32_t>(v)), p += 4; };
+    for (int i = 0; i < 3; ++i) put_f32(node.box.center[i]);
+    for (int i = 0; i < 9; ++i) put_f32(node.box.axes(i % 3, i / 3));
+    for (int i = 0; i < 3; ++i) put_f32(node.box.half_extents[i]);
     put_u32(p, node.first), p += 4;
     put_u32(p, node.count), p += 4;
   }
@@ -79,6 +79,9 @@ Tree deserialize(std::span<const std::byte> bytes, const std::string& source) {
   if (size < kHeaderSize)
     fail("truncated: " + std::to_string(size) + " bytes, the header alone has " + std::to_string(kHeaderSize));
   const std::uint32_t version = get_u32(&bytes[8]);
+  if (version == 1)
+    fail("tree format version 1 (double-precision boxes, written before tightbvh stored float boxes) is no longer "
+         "read: rebuild the tree from its mesh (tightbvh build)");
   if (version != kTreeFormatVersion)
     fail("unsupported tree format version " + std::to_string(version) + " (this build reads version " +
          std::to_string(kTreeFormatVersion) + ")");
@@ -103,14 +106,14 @@ Tree deserialize(std::span<const std::byte> bytes, const std::string& source) {
   tree.triangle_order.resize(t);
   const std::byte* p = bytes.data() + kHeaderSize;
   for (Node& node : tree.nodes) {
-    const auto get_f64 = [&p] {
-      const double v = std::bit_cast<double>(get_u64(p));
-      p += 8;
+    const auto get_f32 = [&p] {
+      const float v = std::bit_cast<float>(get_u32(p));
+      p += 4;
       return v;
     };
-    for (int i = 0; i < 3; ++i) node.box.center[i] = get_f64();
-    for (int i = 0; i < 9; ++i) node.box.axes(i % 3, i / 3) = get_f64();
-    for (int i = 0; i < 3; ++i) node.box.half_extents[i] = get_f64();
+    for (int i = 0; i < 3; ++i) node.box.center[i] = get_f32();
+    for (int i = 0; i < 9; ++i) node.box.axes(i % 3, i / 3) = get_f32();
+    for (int i = 0; i < 3; ++i) node.box.half_extents[i] = get_f32();
     node.first = get_u32(p), p += 4;
     node.count = get_u32(p), p += 4;
   }

@@ -15,7 +15,7 @@ std::size_t write_boxes_obj(const Tree& tree, std::size_t level, std::ostream& o
   for_each_node(tree, [&](const NodeVisit& v) {
     if (v.depth < level) return true;
     // Obb::corners: bit 0 -> +axis 0, bit 1 -> +axis 1, bit 2 -> +axis 2.
-    for (const Vec3& c : v.node.box.corners()) out << "v " << c.x() << ' ' << c.y() << ' ' << c.z() << '\n';
+    for (const Vec3& c : v.node.box.obb().corners()) out << "v " << c.x() << ' ' << c.y() << ' ' << c.z() << '\n';
     const std::size_t base = 8 * boxes + 1;
     for (int a = 0; a < 8; ++a)
       for (const int bit : {1, 2, 4})

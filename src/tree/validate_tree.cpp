@@ -47,7 +47,7 @@ class Checker {
         error("triangle ", t, " appears more than once in triangle_order (again at ", i, ")");
     }
 
-    for (std::size_t i = 0; i < nodes.size() && !full(); ++i) box(i, nodes[i].box);
+    for (std::size_t i = 0; i < nodes.size() && !full(); ++i) box(i, nodes[i].box.obb());
 
     // Depth-first from the root: every node reached exactly once. Not for_each_node
     // (tree_walk.hpp): that walk trusts the structure this one checks, a cycle would never end.
@@ -120,7 +120,7 @@ class Checker {
       for (const std::uint32_t v : t)
         if (v >= mesh.vertices.size()) return error("mesh: vertex index ", v, " out of range");
     for (std::size_t i = 0; i < tree_.nodes.size() && !full(); ++i) {
-      const Obb& box = tree_.nodes[i].box;
+      const Obb box = tree_.nodes[i].box.obb();
       const double tolerance = containment_tolerance(box);
       for (std::size_t k = ranges_[i].begin; k < ranges_[i].end; ++k) {
         const Triangle& t = mesh.triangles[order[k]];

@@ -260,7 +260,7 @@ TEST(CollideEdgeCases, VeryDeepTreeSpillsTheStack) {
     std::vector<Vec3> corners;
     for (std::uint32_t t = first; t < first + count; ++t)
       for (const Vec3& v : strip.corners(t)) corners.push_back(v);
-    return fit_triangles(corners, {.method = FitMethod::aabb});
+    return compact_box(fit_triangles(corners, {.method = FitMethod::aabb}), corners);
   };
   // Internal node of level m (index 0, then 2m - 1) covers triangles [m, n): its first child
   // (2m + 1) is the next level, its second (2m + 2) the leaf of triangle m. The traversal pops

@@ -149,7 +149,7 @@ TEST(Distance, NodeLowerBoundNeverExceedsTheNodesTriangleDistance) {
             for (Vec3& v : q) v = rel.apply(v);
             truth = std::min(truth, tri_tri_distance(a.corners(i), q).distance);
           }
-        const double bound = obb_distance_lower_bound(ta.nodes[ia].box, tb.nodes[ib].box.transformed(rel));
+        const double bound = obb_distance_lower_bound(ta.nodes[ia].box.obb(), tb.nodes[ib].box.obb().transformed(rel));
         EXPECT_LE(bound, truth + 1e-9) << "nodes " << ia << ", " << ib;
         ++pairs;
         positive += bound > 0.0;

@@ -197,7 +197,7 @@ TEST(FclExport, ShapeAndContainmentEveryFitterAndLeafSize) {
         expect_fcl_shape(*obbrss, mesh.triangles.size());
         expect_fcl_shape(*rss, mesh.triangles.size());
         // Our root box is FCL's root box.
-        const fcl::OBB<double> root = to_fcl_obb(tree.nodes[0].box);
+        const fcl::OBB<double> root = to_fcl_obb(tree.nodes[0].box.obb());
         EXPECT_TRUE(obb->getBV(0).bv.To.isApprox(root.To) && obb->getBV(0).bv.extent.isApprox(root.extent));
         int bad_obb = 0, bad_rss = 0, bad_obbrss = 0, bad_rss_model = 0;
         std::vector<Vec3> corners;
@@ -244,7 +244,7 @@ TEST(FclExport, WithLeafSizeOneTopologyAndBoxesAreOurs) {
       ++compared;
       const Node& n = tree.nodes[ours];
       const auto& f = model->getBV(theirs);
-      const fcl::OBB<double> expected = to_fcl_obb(n.box);
+      const fcl::OBB<double> expected = to_fcl_obb(n.box.obb());
       ASSERT_EQ(f.bv.To, expected.To);
       ASSERT_EQ(f.bv.extent, expected.extent);
       ASSERT_EQ(f.bv.axis, expected.axis);

@@ -45,7 +45,7 @@ TEST(CliBuild, JsonStatsSaveAndInspect) {
   EXPECT_EQ(j["depth"]["max"], 8);
   EXPECT_EQ(j["depth"]["min"], 8);
   EXPECT_EQ(j["leaf_triangles"]["max"], 25);
-  EXPECT_EQ(j["bytes"], 511 * 128 + 6400 * 4);
+  EXPECT_EQ(j["bytes"], 511 * 68 + 6400 * 4);
   EXPECT_EQ(j["volume_per_level"].size(), 9u);
   EXPECT_GT(j["sum_volume"].get<double>(), 0.0);
   EXPECT_GE(j["seconds"].get<double>(), 0.0);

@@ -96,6 +96,7 @@ Tree build_with(const Mesh& mesh, const Fitter& fitter, std::uint32_t leaf_size 
 }
 
 bool same_bits(const Obb& a, const Obb& b) { return std::memcmp(&a, &b, sizeof(Obb)) == 0; }
+bool same_bits(const CompactBox& a, const CompactBox& b) { return std::memcmp(&a, &b, sizeof(CompactBox)) == 0; }
 
 // Same topology, boxes untouched by the comparison.
 void expect_same_topology(const Tree& a, const Tree& b) {
@@ -128,8 +129,8 @@ void expect_pca_boxes_match(const Mesh& mesh, FitMethod method) {
   expect_same_topology(built, tree);
   const double scale = bounds_of(mesh.vertices).diagonal();
   for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
-    const Obb& want = built.nodes[i].box;
-    const Obb& got = tree.nodes[i].box;
+    const Obb want = built.nodes[i].box.obb();
+    const Obb got = tree.nodes[i].box.obb();
     if (tree.nodes[i].count == 1 && detail::triangle_box(mesh.corners(tree.triangle_order[tree.nodes[i].first]))) {
       EXPECT_TRUE(same_bits(want, got)) << "leaf " << i;
       continue;

@@ -59,7 +59,7 @@ TEST(Serialize, RoundTripIsExact) {
   EXPECT_EQ(std::memcmp(loaded.nodes.data(), tree.nodes.data(), tree.nodes.size() * sizeof(Node)), 0);
   EXPECT_EQ(loaded.triangle_order, tree.triangle_order);
   EXPECT_TRUE(validate(loaded, mesh).ok());
-  EXPECT_EQ(std::filesystem::file_size(path), 40 + tree.nodes.size() * 128 + tree.triangle_order.size() * 4);
+  EXPECT_EQ(std::filesystem::file_size(path), 40 + tree.nodes.size() * 68 + tree.triangle_order.size() * 4);
   std::filesystem::remove(path);
 }
 
@@ -82,8 +82,11 @@ TEST(Serialize, RejectsWrongMagicVersionAndSizes) {
   expect_rejected(text, "wrong magic");
   expect_rejected(std::vector<std::byte>(good.begin(), good.begin() + 5), "truncated");  // a prefix of the magic
   auto version = good;
-  put_u32(version, 8, 2);
-  expect_rejected(version, "unsupported tree format version 2");
+  put_u32(version, 8, 3);
+  expect_rejected(version, "unsupported tree format version 3");
+  put_u32(version, 8, 1);  // the double-box format of earlier releases: says what to do
+  expect_rejected(version, "version 1 (double-precision boxes");
+  expect_rejected(version, "rebuild the tree");
   expect_rejected(std::vector<std::byte>(good.begin(), good.begin() + 20), "truncated");
   expect_rejected(std::vector<std::byte>(good.begin(), good.end() - 1), "truncated");
   auto trailing = good;
@@ -115,7 +118,7 @@ TEST(Serialize, RejectsCorruptedBytes) {
 TEST(Serialize, RejectsBadStructureWithValidChecksum) {
   const Tree tree = elephant_tree(elephant());
   const auto good = serialize(tree);
-  const std::size_t root_first = 40 + 120;  // node 0: 15 doubles, then first, count
+  const std::size_t root_first = 40 + 60;  // node 0: 15 floats, then first, count
   auto child = good;
   put_u32(child, root_first, static_cast<std::uint32_t>(tree.nodes.size()));  // children out of range
   test::fix_checksum(child);
@@ -129,7 +132,7 @@ TEST(Serialize, RejectsBadStructureWithValidChecksum) {
   test::fix_checksum(order);
   expect_rejected(order, "out of range");
   auto nan = good;
-  put_u64(nan, 40, 0x7ff8000000000000ull);  // root center x = NaN
+  put_u32(nan, 40, 0x7fc00000u);  // root center x = NaN
   test::fix_checksum(nan);
   expect_rejected(nan, "non-finite");
 }

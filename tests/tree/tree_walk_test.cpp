@@ -22,11 +22,11 @@ Mesh knot() { return load_mesh(test::source_dir() / "meshes/knot1.off"); }
 Tree small_tree() {
   Tree tree;
   tree.nodes.resize(5);
-  tree.nodes[0] = {Obb{}, 1, 0};
-  tree.nodes[1] = {Obb{}, 0, 1};
-  tree.nodes[2] = {Obb{}, 3, 0};
-  tree.nodes[3] = {Obb{}, 1, 1};
-  tree.nodes[4] = {Obb{}, 2, 1};
+  tree.nodes[0] = {CompactBox{}, 1, 0};
+  tree.nodes[1] = {CompactBox{}, 0, 1};
+  tree.nodes[2] = {CompactBox{}, 3, 0};
+  tree.nodes[3] = {CompactBox{}, 1, 1};
+  tree.nodes[4] = {CompactBox{}, 2, 1};
   tree.triangle_order = {0, 1, 2};
   return tree;
 }
@@ -135,16 +135,16 @@ TEST(TreeObj, OneBoxPerNodeOfTheLevel) {
 
 TEST(TreeObj, CornersAreTheBoxCorners) {
   Tree tree;
-  tree.nodes.push_back({Obb{}, 0, 1});
-  tree.nodes[0].box.center = Vec3(1, 2, 3);
-  tree.nodes[0].box.half_extents = Vec3(0.5, 0.25, 2);
+  tree.nodes.push_back({CompactBox{}, 0, 1});
+  tree.nodes[0].box.center = Eigen::Vector3f(1, 2, 3);
+  tree.nodes[0].box.half_extents = Eigen::Vector3f(0.5, 0.25, 2);
   tree.triangle_order = {0};
   std::stringstream text;
   ASSERT_EQ(write_boxes_obj(tree, 0, text), 1u);
   std::string line;
   std::getline(text, line);
   EXPECT_EQ(line, "# tightbvh: boxes of tree level 0");
-  for (const Vec3& corner : tree.nodes[0].box.corners()) {
+  for (const Vec3& corner : tree.nodes[0].box.obb().corners()) {
     std::getline(text, line);
     std::istringstream words(line);
     std::string v;

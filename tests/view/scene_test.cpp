@@ -65,7 +65,7 @@ TEST(ViewScene, TreeJsonLevelsAreTheTreesNodes) {
   for_each_node(built.tree, [&](const NodeVisit& v) {
     if (v.depth >= levels.size()) return false;
     const std::size_t offset = 15 * seen[v.depth]++;
-    EXPECT_LT((corner(levels[v.depth], offset, 7) - v.node.box.corners()[7]).norm(), 1e-5);
+    EXPECT_LT((corner(levels[v.depth], offset, 7) - v.node.box.obb().corners()[7]).norm(), 1e-5);
     return true;
   });
 }

@@ -51,6 +51,8 @@ struct FclExportOptions {
 // them): the rectangle lies in the box's mid-plane across its two longest axes; the radius is
 // the largest distance of a point to the rectangle (so containment holds by construction);
 // the rectangle is shrunk by the amount giving the smallest RSS volume among a few candidates.
+// The axes are orthonormalised first (a tree's float axes are only orthonormal to ~1e-7).
+// Throws InputError when `points` is empty.
 [[nodiscard]] fcl::RSS<double> fit_rss(const Obb& box, std::span<const Vec3> points);
 
 }  // namespace tightbvh

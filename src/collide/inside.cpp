@@ -67,8 +67,7 @@ enum class Meet : std::uint8_t { miss, cross, degenerate, on_surface };
 }
 
 // May the segment pq (frame of the tree) meet the box? A slab test on the box inflated by `margin`,
-// which absorbs the rounding of the transforms (with the queries' allowance for float boxes on
-// top), so a triangle the segment meets is never culled.
+// which absorbs the rounding of the transforms, so a triangle the segment meets is never culled.
 [[nodiscard]] bool segment_meets_box(const Obb& box, const Vec3& p, const Vec3& q, double margin) {
   const Vec3 lp = box.to_local(p), lq = box.to_local(q);
   double t0 = 0.0, t1 = 1.0;
@@ -160,13 +159,14 @@ template <class Corner>
   if (tree.nodes.empty()) return Containment::outside;
   const Obb root = box_of(tree.nodes[0]);
   const Vec3 pt = to_tree != nullptr ? to_tree->apply(p) : p;
-  const double margin =
-      (kBoxMargin + kCompactBoxSlack) * (query_detail::box_scale(tree.nodes[0].box) + pt.cwiseAbs().maxCoeff());
+  // The slab test evaluates the float boxes' own definition (box_of): kBoxMargin for the transforms'
+  // rounding suffices; kCompactBoxSlack (for tests that treat the axes as orthonormal) is not needed.
+  const double margin = kBoxMargin * (query_detail::box_scale(tree.nodes[0].box) + pt.cwiseAbs().maxCoeff());
   // Outside the root box is outside the surface's hull (the common case for separated meshes).
   if (!root.contains(pt, margin)) return Containment::outside;
   return classify_by_rays(p, to_tree, root.center, root.half_extents,
                           [&](const Vec3& p, const Vec3& q, const Vec3& pt, const Vec3& qt, Ray& ray) {
-                            const double m = margin + (kBoxMargin + kCompactBoxSlack) * qt.cwiseAbs().maxCoeff();
+                            const double m = margin + kBoxMargin * qt.cwiseAbs().maxCoeff();
                             stack.clear();
                             stack.push_back(0);
                             while (!stack.empty()) {

@@ -1,7 +1,8 @@
 // tightbvh collide MESH_A MESH_B --pose "r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz"
-//   [--all-pairs] [--margin D] [--solid] [--fitter F] [--json] [--view DIR]: builds both trees and runs one
-// query with A at the identity and B at the given pose (B's transform in A's frame, rotation
-// row-major). --view writes DIR/index.html: both posed meshes with the touching triangles highlighted.
+//   [--all-pairs] [--margin D] [--solid] [--fitter F] [--json] [--view DIR]: builds both trees and
+// runs one query with A at the identity and B at the given pose (B's transform in A's frame, rotation
+// row-major). --view writes DIR/index.html: both posed meshes with the touching triangles
+// highlighted, and the node pairs the descent visited (collide_trace, run once more for the page).
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -16,6 +17,7 @@
 #include "tightbvh/build.hpp"
 #include "tightbvh/closed.hpp"
 #include "tightbvh/collide.hpp"
+#include "tightbvh/collide_trace.hpp"
 #include "tightbvh/pose_text.hpp"
 #include "view/page.hpp"
 #include "view/scene.hpp"
@@ -67,6 +69,10 @@ struct Run {
   double query_seconds = 0.0;
 };
 
+[[nodiscard]] QueryOptions query_options(const Args& args) {
+  return {.mode = args.all_pairs ? QueryMode::all_pairs : QueryMode::first_hit, .margin = args.margin};
+}
+
 // Builds both trees and runs the query.
 [[nodiscard]] Run run_collide(const Args& args) {
   Run run{load_pair(args.mesh_a, args.mesh_b, args.pose, args.fitter, args.leaf_size, args.threads), {}};
@@ -90,7 +96,13 @@ void write_view(const Args& args, const Run& run) {
   const auto name = [](const std::string& path) { return std::filesystem::path(path).filename().string(); };
   const std::string title = name(args.mesh_a) + " (A) and " + name(args.mesh_b) + " (B): contacts, fitter " +
                             to_string(run.pair.fitter);
-  view::write_page(args.view, view::contacts_scene(title, {run.pair.a, run.pair.b, run.pair.pose_b, run.result, args.all_pairs}));
+  const MeshPair& p = run.pair;
+  nlohmann::json scene = view::contacts_scene(title, {p.a, p.b, p.pose_b, run.result, args.all_pairs});
+  // The descent again, recorded (not timed): the same node pairs as the query above.
+  const CollideTrace trace = collide_trace(p.ta, p.a, Pose::identity(), p.tb, p.b, p.pose_b, query_options(args),
+                                           {.max_pairs = view::kMaxDrawnPairs});
+  scene["descent"] = view::descent_json(trace, p.ta, p.tb, p.pose_b);
+  view::write_page(args.view, scene);
 }
 
 void print_collide(const Args& args, const Run& run) {
@@ -148,7 +160,8 @@ void add_collide_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "build threads (0: all cores)")->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON instead of text");
-  cmd->add_option("--view", args->view, "write DIR/index.html: the posed meshes, touching triangles highlighted");
+  cmd->add_option("--view", args->view,
+                  "write DIR/index.html: the posed meshes, touching triangles highlighted, the descent's node pairs");
   cmd->callback([args] {
     const Run run = run_collide(*args);
     if (!args->view.empty()) write_view(*args, run);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "tightbvh/tree_walk.hpp"
@@ -119,6 +120,35 @@ nlohmann::json contacts_scene(const std::string& title, const ContactInput& inpu
           {"meshes", {mesh_json(input.a), mesh_json(input.b, input.pose_b)}},
           {"contacts", {corners_json(input.a, touching_a, Pose{}), corners_json(input.b, touching_b, input.pose_b)}},
           {"result", result}};
+}
+
+nlohmann::json descent_json(const CollideTrace& trace, const Tree& a, const Tree& b, const Pose& pose_b,
+                            std::size_t max_pairs) {
+  const std::size_t drawn = std::min(max_pairs, trace.pairs.size());
+  // One rounding for both trees (the scene's size), as for the meshes.
+  double scale = 1.0;
+  if (!a.nodes.empty() && !b.nodes.empty())
+    scale = std::max(scale_of(a.nodes[0].box.obb()), scale_of(b.nodes[0].box.obb().transformed(pose_b)));
+  const Rounding rounding(scale);
+  nlohmann::json boxes_a = nlohmann::json::array(), boxes_b = nlohmann::json::array();
+  std::map<std::uint32_t, std::size_t> index_a, index_b;  // node -> position in boxes_a / boxes_b
+  const auto box_index = [&](std::map<std::uint32_t, std::size_t>& index, nlohmann::json& boxes, const Obb& box,
+                             std::uint32_t node) {
+    const auto [it, added] = index.try_emplace(node, index.size());
+    if (added) append_box(boxes, box, rounding);
+    return it->second;
+  };
+  nlohmann::json steps = nlohmann::json::array();
+  for (std::size_t i = 0; i < drawn; ++i) {
+    const VisitedPair& p = trace.pairs[i];
+    steps.push_back(box_index(index_a, boxes_a, a.nodes[p.a].box.obb(), p.a));
+    steps.push_back(box_index(index_b, boxes_b, b.nodes[p.b].box.obb().transformed(pose_b), p.b));
+    steps.push_back(static_cast<int>(p.outcome));
+    steps.push_back(p.level);
+  }
+  return {{"visited", trace.visited},          {"drawn", drawn},   {"max_drawn", max_pairs},
+          {"per_level", trace.per_level},      {"boxes_a", std::move(boxes_a)},
+          {"boxes_b", std::move(boxes_b)},     {"steps", std::move(steps)}};
 }
 
 }  // namespace tightbvh::view

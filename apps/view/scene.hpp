@@ -9,6 +9,7 @@
 
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
+#include "tightbvh/collide_trace.hpp"
 #include "view/decimate.hpp"
 
 namespace tightbvh::view {
@@ -16,6 +17,9 @@ namespace tightbvh::view {
 // Beyond this many boxes in the levels up to the selected one, deeper levels are left out of the
 // page (their volumes are still listed).
 inline constexpr std::size_t kMaxDrawnBoxes = 8'000;
+// The descent picture of `tightbvh collide --view` shows at most this many visited node pairs
+// (the first ones in visiting order; every pair is still counted per level).
+inline constexpr std::size_t kMaxDrawnPairs = 3'000;
 
 // {"triangles", "drawn_triangles", "decimated", "max_drawn_triangles", "positions" (x y z per
 // vertex, after `pose`), "indices" (3 per drawn triangle)}.
@@ -46,5 +50,13 @@ struct ContactInput {
   bool all_pairs = false;
 };
 [[nodiscard]] nlohmann::json contacts_scene(const std::string& title, const ContactInput& input);
+
+// The descent of the query (collide_trace with A at the identity and B at pose_b), for the
+// contacts page: {"visited", "drawn" (pairs below), "max_drawn", "per_level": [[culled, descended,
+// leaves, hit] per descent level], "boxes_a", "boxes_b" (box_json of each node drawn, concatenated;
+// B's posed into A's frame), "steps": 4 numbers per drawn pair in visiting order: index into
+// boxes_a, index into boxes_b, outcome (PairOutcome as a number), descent level}.
+[[nodiscard]] nlohmann::json descent_json(const CollideTrace& trace, const Tree& a, const Tree& b, const Pose& pose_b,
+                                          std::size_t max_pairs = kMaxDrawnPairs);
 
 }  // namespace tightbvh::view

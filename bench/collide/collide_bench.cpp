@@ -5,6 +5,12 @@
 //   build/bin/tightbvh-collide-bench --benchmark_filter=Traversal
 //
 // Counters: box_tests and tri_tests are per query (averaged over the scenario's poses).
+//
+// The cost model (README, "Where the time of a query goes"): BM_ReplayBoxTests and
+// BM_ReplayTriangleTests replay, without the descent around them, exactly the box tests and the
+// triangle tests that collide() made on the auto trees of each scenario (recorded with
+// collide_trace), so that (box tests x their cost + triangle tests x theirs) can be held
+// against BM_Traversal's measured query time: bench/collide/cost_model.py prints the table.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -17,8 +23,11 @@
 
 #include <Eigen/Geometry>
 
+#include "collide/query_common.hpp"
+#include "collide/query_workspace.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
+#include "tightbvh/collide_trace.hpp"
 #include "tightbvh/obb_overlap.hpp"
 #include "tightbvh/tri_tri.hpp"
 
@@ -241,5 +250,105 @@ BENCHMARK(BM_Traversal)
     ->ArgsProduct({{1}, {0, 1, 2}, {0, 1}, {1}})
     ->ArgNames({"fitter", "scenario", "all_pairs", "descend"})
     ->Unit(benchmark::kMicrosecond);
+
+// ---------------------------------------------------------------- cost model
+
+constexpr int kAutoFitter = 6;
+
+// What collide() did on the auto trees for each pose of a scenario and mode: the node pairs it
+// box-tested, in order, and the leaf pairs whose triangles it tested.
+struct Recorded {
+  const Tree* ta = nullptr;
+  const Tree* tb = nullptr;
+  std::vector<std::vector<query_detail::NodePair>> tested, leaves;  // per pose
+};
+
+const Recorded& recorded(int scenario, bool all_pairs) {
+  static std::map<std::pair<int, bool>, std::unique_ptr<Recorded>> cache;
+  static std::map<std::pair<const Mesh*, int>, std::unique_ptr<Tree>> trees;
+  auto& slot = cache[{scenario, all_pairs}];
+  if (!slot) {
+    const Scene& sc = scene();
+    slot = std::make_unique<Recorded>();
+    slot->ta = tree_for(sc.a, kAutoFitter, trees);
+    slot->tb = tree_for(sc.b, kAutoFitter, trees);
+    for (const Pose& pose : sc.poses[scenario]) {
+      const CollideTrace trace =
+          collide_trace(*slot->ta, sc.a, Pose::identity(), *slot->tb, sc.b, pose,
+                        {.mode = all_pairs ? QueryMode::all_pairs : QueryMode::first_hit}, {.max_pairs = 1u << 30});
+      auto& tested = slot->tested.emplace_back();
+      auto& leaves = slot->leaves.emplace_back();
+      for (const VisitedPair& p : trace.pairs) {
+        tested.push_back({p.a, p.b});
+        if (p.outcome == PairOutcome::leaves || p.outcome == PairOutcome::hit) leaves.push_back({p.a, p.b});
+      }
+    }
+  }
+  return *slot;
+}
+
+// Args: scenario, mode. The box tests of collide_trees: B's box mapped into A's frame once per
+// query and node (the same cache), then the SAT with the same allowance.
+void BM_ReplayBoxTests(benchmark::State& state) {
+  const Scene& sc = scene();
+  const Recorded& rec = recorded(static_cast<int>(state.range(0)), state.range(1) != 0);
+  const Tree& ta = *rec.ta;
+  const Tree& tb = *rec.tb;
+  query_detail::BoxCache cache;
+  std::size_t tests = 0, overlaps = 0;
+  for (auto _ : state) {
+    for (std::size_t q = 0; q < rec.tested.size(); ++q) {
+      const Pose& rel = sc.poses[state.range(0)][q];  // A at identity: B's pose is the relative pose
+      const double margin = query_detail::box_allowance(ta, tb, rel);
+      cache.begin(tb.nodes.size());
+      for (const query_detail::NodePair& p : rec.tested[q]) {
+        const CompactBox& ba = ta.nodes[p.a].box;
+        const CompactBox& bb = tb.nodes[p.b].box;
+        const query_detail::MappedBox& mapped = cache.mapped(p.b, bb, rel);
+        const auto [c, d] = query_detail::in_box_frame(ba, mapped.axes, mapped.center);
+        overlaps += obb_overlap(c, d, ba.half_extents_d(), bb.half_extents_d(), margin);
+      }
+      tests += rec.tested[q].size();
+    }
+  }
+  benchmark::DoNotOptimize(overlaps);
+  state.SetItemsProcessed(static_cast<std::int64_t>(tests));
+  state.SetLabel(std::string(kScenarioNames[state.range(0)]) + (state.range(1) ? "/all_pairs" : "/first_hit"));
+}
+BENCHMARK(BM_ReplayBoxTests)->ArgsProduct({{0, 1, 2}, {0, 1}})->ArgNames({"scenario", "all_pairs"});
+
+// Args: scenario, mode. The leaf pairs' triangle tests as collide_trees makes them: B's
+// triangles mapped into A's frame, then the exact test against each of A's.
+void BM_ReplayTriangleTests(benchmark::State& state) {
+  const Scene& sc = scene();
+  const Recorded& rec = recorded(static_cast<int>(state.range(0)), state.range(1) != 0);
+  const Tree& ta = *rec.ta;
+  const Tree& tb = *rec.tb;
+  std::size_t tests = 0, hits = 0;
+  std::array<Vec3, 3> mapped;
+  for (auto _ : state) {
+    for (std::size_t q = 0; q < rec.leaves.size(); ++q) {
+      const Pose& rel = sc.poses[state.range(0)][q];
+      for (const query_detail::NodePair& p : rec.leaves[q]) {
+        const Node& na = ta.nodes[p.a];
+        const Node& nb = tb.nodes[p.b];
+        for (std::uint32_t j = 0; j < nb.count; ++j) {
+          const Triangle& tri = sc.b.triangles[tb.triangle_order[nb.first + j]];
+          for (int k = 0; k < 3; ++k) mapped[k] = query_detail::map_point(rel, sc.b.vertices[tri[k]]);
+          for (std::uint32_t i = 0; i < na.count; ++i) {
+            const Triangle& ta_tri = sc.a.triangles[ta.triangle_order[na.first + i]];
+            hits += tri_tri_overlap(sc.a.vertices[ta_tri[0]], sc.a.vertices[ta_tri[1]], sc.a.vertices[ta_tri[2]],
+                                    mapped[0], mapped[1], mapped[2]);
+            ++tests;
+          }
+        }
+      }
+    }
+  }
+  benchmark::DoNotOptimize(hits);
+  state.SetItemsProcessed(static_cast<std::int64_t>(tests));
+  state.SetLabel(std::string(kScenarioNames[state.range(0)]) + (state.range(1) ? "/all_pairs" : "/first_hit"));
+}
+BENCHMARK(BM_ReplayTriangleTests)->ArgsProduct({{0, 1, 2}, {0, 1}})->ArgNames({"scenario", "all_pairs"});
 
 }  // namespace

@@ -226,6 +226,9 @@ class Run {
       progress_.show(sname + ": reference", double(i + 1) / ps.size());
     }
     if (want_distance) brute_check(sname, ps, ref_distance);
+    if (!ps.empty() && !o_.report_dir.empty())
+      pictures.push_back(tb::typical_pose(sname, ps, want_pairs ? ref_pairs : std::vector<std::vector<tb::Pair>>{},
+                                          [&](const Pose& p) { return reference_.pairs(p); }));
     std::vector<Job> jobs = prepare(sname, ps);
     time_passes(sname, ps, jobs);
     add_rows(sname, ps, jobs, ref_pairs, ref_distance, ref_margin, ref_solid);
@@ -234,6 +237,7 @@ class Run {
   std::map<std::string, std::unique_ptr<tb::Prepared>> built;
   std::vector<tb::Row> rows;
   std::vector<Pose> written;
+  std::vector<tb::PosePicture> pictures;  // one typical pose per scenario, for the report
 
  private:
   // The distance reference against every triangle pair on the first --brute-check poses.
@@ -388,7 +392,7 @@ void write_outputs(const Options& o, const tb::Input& input, const tb::RunInfo& 
   tb::print_table(std::cout, info, run.rows);
   if (!o.json_file.empty()) tb::write_json(o.json_file, info, run.rows);
   if (!o.csv_file.empty()) tb::write_csv(o.csv_file, info, run.rows);
-  if (!o.report_dir.empty()) tb::write_report(o.report_dir, info, run.rows, input);
+  if (!o.report_dir.empty()) tb::write_report(o.report_dir, info, run.rows, input, run.pictures);
 }
 
 }  // namespace

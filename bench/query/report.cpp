@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "tightbvh/build.hpp"
+#include "view/decimate.hpp"
 
 namespace tightbvh::bench {
 namespace {
@@ -186,10 +187,96 @@ std::string boxes_picture(const Tree& tree, int level, const View& view, const s
   return s.str();
 }
 
+// A typical pose of a scenario: A (blue) at the identity, B (green) at the pose, the touching
+// triangles (red) drawn over both. Orthographic view from the same direction as the view pages'
+// initial one (apps/view/page.html), painter's algorithm over flat-shaded triangles; meshes above
+// kMaxPictureTriangles are drawn decimated, the contacts always from the full meshes.
+struct Projection {
+  Vec3 x, y, z, center;
+  double scale = 1, half = 200;
+  [[nodiscard]] Vec3 operator()(const Vec3& p) const {
+    const Vec3 q = p - center;
+    return {half + scale * q.dot(x), half - scale * q.dot(y), q.dot(z)};
+  }
+};
+
+std::string hex(int r, int g, int b) {
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", std::clamp(r, 0, 255), std::clamp(g, 0, 255), std::clamp(b, 0, 255));
+  return buf;
+}
+
+std::string pose_picture(const Input& input, const PosePicture& picture, const std::string& caption) {
+  const double size = 420;
+  const view::DrawnMesh drawn_a = view::decimate_for_drawing(input.a, kMaxPictureTriangles);
+  const view::DrawnMesh drawn_b = view::decimate_for_drawing(input.b, kMaxPictureTriangles);
+  Aabb bounds = bounds_of(input.a.vertices);
+  for (const Vec3& v : input.b.vertices) bounds.extend(picture.pose.apply(v));
+  Projection view;
+  const double yaw = 0.6, pitch = 0.35;
+  view.z = Vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
+  view.x = Vec3(view.z.z(), 0, -view.z.x()).normalized();
+  view.y = view.z.cross(view.x);
+  view.center = bounds.center();
+  view.half = size / 2;
+  view.scale = (size / 2 - 8) / std::max(0.5 * bounds.diagonal(), 1e-300);
+  struct Face {
+    std::array<Vec3, 3> p;  // projected (x, y in pixels, z depth: larger is nearer)
+    int r, g, b;
+  };
+  std::vector<Face> faces;
+  const auto add = [&](const Mesh& mesh, const Pose& pose, int r, int g, int b) {
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const auto c = mesh.corners(t);
+      const Vec3 p0 = pose.apply(c[0]), p1 = pose.apply(c[1]), p2 = pose.apply(c[2]);
+      const Vec3 n = (p1 - p0).cross(p2 - p0);
+      const double light = 0.45 + 0.55 * (n.norm() > 0 ? std::abs(n.dot(view.z)) / n.norm() : 1.0);
+      faces.push_back({{view(p0), view(p1), view(p2)}, int(r * light), int(g * light), int(b * light)});
+    }
+  };
+  add(drawn_a.mesh, Pose{}, 127, 167, 217);
+  add(drawn_b.mesh, picture.pose, 143, 207, 143);
+  std::sort(faces.begin(), faces.end(), [](const Face& f, const Face& g) {
+    return f.p[0].z() + f.p[1].z() + f.p[2].z() < g.p[0].z() + g.p[1].z() + g.p[2].z();
+  });
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << size << "' height='" << size + 36
+    << "' font-family='sans-serif' font-size='12'><rect width='100%' height='100%' fill='#fff'/>";
+  const auto path = [&](const std::array<Vec3, 3>& p) {
+    std::string d;
+    for (int k = 0; k < 3; ++k) {
+      d += k ? 'L' : 'M';
+      d += fmt(p[k].x(), "%.1f");
+      d += ' ';
+      d += fmt(p[k].y(), "%.1f");
+    }
+    return d + 'Z';
+  };
+  for (const Face& f : faces) s << "<path fill='" << hex(f.r, f.g, f.b) << "' d='" << path(f.p) << "'/>";
+  // Contacts over everything (also where hidden), with an outline so that small ones show.
+  std::set<std::uint32_t> ta, tb;
+  for (const auto& [a, b] : picture.pairs) ta.insert(a), tb.insert(b);
+  s << "<g fill='#e0202a' stroke='#e0202a' stroke-width='1.2' stroke-linejoin='round'>";
+  for (const std::uint32_t t : ta) {
+    const auto c = input.a.corners(t);
+    s << "<path d='" << path({view(c[0]), view(c[1]), view(c[2])}) << "'/>";
+  }
+  for (const std::uint32_t t : tb) {
+    const auto c = input.b.corners(t);
+    s << "<path d='" << path({view(picture.pose.apply(c[0])), view(picture.pose.apply(c[1])),
+                              view(picture.pose.apply(c[2]))})
+      << "'/>";
+  }
+  s << "</g><text x='4' y='" << size + 14 << "' font-weight='bold'>" << esc(caption) << "</text><text x='4' y='"
+    << size + 30 << "'>" << picture.pairs.size() << " touching triangle pairs (" << ta.size() << " of A, " << tb.size()
+    << " of B)</text></svg>";
+  return s.str();
+}
+
 }  // namespace
 
 void write_report(const std::filesystem::path& dir, const RunInfo& info, const std::vector<Row>& rows,
-                  const Input& input) {
+                  const Input& input, const std::vector<PosePicture>& pictures) {
   std::filesystem::create_directories(dir);
   std::ostringstream h;
   h << "<!doctype html><html><head><meta charset='utf-8'><title>tightbvh-bench report</title><style>"
@@ -212,6 +299,34 @@ void write_report(const std::filesystem::path& dir, const RunInfo& info, const s
         if (r.scenario == sc && r.mode == m && r.engine != "reference") sel.push_back(&r);
       if (!sel.empty()) h << "<div>" << qps_chart(sel, sc + " / " + to_string(m)) << "</div>";
     }
+
+  // One typical pose per scenario, with its contacts.
+  if (!pictures.empty()) {
+    const auto drawn_note = [](const Mesh& m) {
+      return m.triangles.size() > kMaxPictureTriangles
+                 ? std::to_string(m.triangles.size()) + " triangles, drawn decimated to at most " +
+                       std::to_string(kMaxPictureTriangles) + " (vertex clustering)"
+                 : std::to_string(m.triangles.size()) + " triangles, all drawn";
+    };
+    h << "<h2>A typical pose per scenario</h2><p>A (blue) at the identity, B (green) at the pose; the touching "
+         "triangles (the reference's pairs) in red, drawn over both meshes even where hidden. Per scenario the pose "
+         "with the median number of touching pairs among the touching poses. Meshes above "
+      << kMaxPictureTriangles << " triangles are drawn simplified (what is drawn, not what is measured): A "
+      << esc(drawn_note(input.a)) << "; B " << esc(drawn_note(input.b)) << ".</p><div class='pics'>";
+    for (const PosePicture& picture : pictures) {
+      const std::string svg = pose_picture(input, picture,
+                                           picture.scenario + ": pose " + std::to_string(picture.index + 1) + " of " +
+                                               std::to_string(picture.poses));
+      h << svg;
+      std::ofstream file(dir / ("pose-" + picture.scenario + ".svg"));
+      file << "<?xml version='1.0' encoding='utf-8'?>\n" << svg << '\n';
+      if (!file) throw InputError((dir / ("pose-" + picture.scenario + ".svg")).string() + ": write failed");
+    }
+    h << "</div><p>";
+    for (const PosePicture& picture : pictures)
+      h << esc(picture.scenario) << ": pose " << picture.index + 1 << ", " << esc(picture.why) << ". ";
+    h << "</p>";
+  }
 
   // The table.
   h << "<h2>Results</h2><table><tr><th>scenario</th><th>engine</th><th>mode</th><th>build s</th><th>queries/s</th>"

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The view pages as a person sees them: check-view.sh TIGHTBVH_BINARY SOURCE_DIR OUT_DIR
-# Writes a `tightbvh view` page and a `tightbvh collide --view` page, opens each in headless
+# Writes a `tightbvh view` page and two `tightbvh collide --view` pages (all_pairs; first_hit, its
+# descent panel opened with #boxes-only so that it must draw node boxes), opens each in headless
 # Chromium (WebGL through SwiftShader, networking off) and fails when a page references the
 # network, its scripts throw or leave a panel blank (the page logs "tightbvh-view-status: ok" to
 # the console only when every panel drew pixels; Chromium's log shows it), or the screenshot
@@ -18,24 +19,29 @@ trap 'rm -rf "$profile"' EXIT
 "$bin" view "$src/meshes/knot1.off" --level 3 -o "$out/trees" >/dev/null
 "$bin" collide "$src/meshes/knot1.off" "$src/meshes/elephant.off" --pose "0 -1 0 1 0 0 0 0 1 0.1 0 0" \
   --fitter pca --all-pairs --view "$out/contacts" >/dev/null
+"$bin" collide "$src/meshes/knot1.off" "$src/meshes/elephant.off" --pose "0 -1 0 1 0 0 0 0 1 0.1 0 0" \
+  --view "$out/descent" >/dev/null
+grep -q '"descent":' "$out/descent/index.html" || { echo "check-view: no descent in the first_hit page" >&2; exit 1; }
 
-# status_of PAGE PNG: screenshots file://PAGE into PNG and prints the status the page logged.
+# status_of PAGE PNG [#HASH]: screenshots file://PAGE#HASH into PNG and prints the status the page logged.
 status_of() {
   timeout 120 chromium --headless --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader \
     --disable-background-networking --disable-component-update --disable-sync --no-first-run \
     --enable-logging=stderr --v=0 --user-data-dir="$profile" --virtual-time-budget=15000 \
-    --window-size=1200,1000 --screenshot="$2" "file://$1" >"$profile/run.log" 2>&1 || true
+    --window-size=1200,1000 --screenshot="$2" "file://$1${3:-}" >"$profile/run.log" 2>&1 || true
   cat "$profile/run.log" >>"$profile/log"
   sed -n 's/.*"tightbvh-view-status: \([^"]*\)".*/\1/p' "$profile/run.log" | head -1
 }
 
 failed=0
-for name in trees contacts; do
+for name in trees contacts descent; do
   page="$out/$name/index.html"
   if grep -Eq "(src|href)=['\"]?https?:" "$page"; then
     echo "check-view: $name page references the network" >&2; failed=1; continue
   fi
-  status=$(status_of "$page" "$out/$name.png")
+  hash=""
+  [ "$name" = descent ] && hash="#boxes-only"
+  status=$(status_of "$page" "$out/$name.png" "$hash")
   if [ "$status" != "ok" ]; then
     echo "check-view: $name page status '${status:-none}' (expected ok)" >&2; failed=1; continue
   fi
@@ -55,6 +61,13 @@ esac
 if /usr/bin/python3 "$here/png_colored_pixels.py" "$out/broken.png" 0.03 >/dev/null; then
   echo "check-view: the broken page's screenshot passed the pixel count" >&2; failed=1
 fi
+# A descent with no node pairs drawn leaves its panel blank under #boxes-only: caught.
+sed 's/"steps":\[[^]]*\]/"steps":[]/' "$out/descent/index.html" > "$out/no-steps.html"
+status=$(status_of "$out/no-steps.html" "$out/no-steps.png" "#boxes-only")
+case "$status" in
+  error*) ;;
+  *) echo "check-view: a descent panel without boxes was not caught (status '${status:-none}')" >&2; failed=1 ;;
+esac
 
 if [ "$failed" -ne 0 ]; then
   echo "check-view: chromium log:" >&2

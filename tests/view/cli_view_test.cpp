@@ -71,6 +71,31 @@ TEST(CliView, CollideViewHighlightsContacts) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(CliView, CollideViewDrawsTheFirstHitDescent) {
+  const auto dir = temp("descent");
+  const CliRun r = test::run_cli("collide " + mesh("knot1.off") + " " + mesh("elephant.off") +
+                                 " --pose \"0 -1 0 1 0 0 0 0 1 0.1 0 0\" --json --view " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json out = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(out["hit"].get<bool>());
+  const nlohmann::json scene = scene_of(slurp(dir / "index.html"));
+  const nlohmann::json& d = scene["descent"];
+  // The recorded descent is the query's: one visited pair per box test, all counted per level.
+  EXPECT_EQ(d["visited"], out["box_tests"]);
+  std::uint64_t counted = 0, hits = 0;
+  for (const auto& level : d["per_level"]) {
+    for (const auto& n : level) counted += n.get<std::uint64_t>();
+    hits += level[3].get<std::uint64_t>();
+  }
+  EXPECT_EQ(counted, out["box_tests"].get<std::uint64_t>());
+  EXPECT_EQ(hits, 1u);  // first_hit stops at its one leaf pair with a contact
+  const std::size_t drawn = d["drawn"];
+  EXPECT_EQ(drawn, std::min<std::uint64_t>(out["box_tests"].get<std::uint64_t>(), d["max_drawn"].get<std::uint64_t>()));
+  ASSERT_EQ(d["steps"].size(), 4 * drawn);
+  EXPECT_EQ(d["steps"][2], 1);  // the root pair overlaps and is descended
+  std::filesystem::remove_all(dir);
+}
+
 TEST(CliView, BadInputIsOneLineAndNonZeroExit) {
   const auto dir = temp("bad");
   const auto blocker = temp("blocker");

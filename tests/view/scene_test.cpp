@@ -7,6 +7,9 @@
 #include <fstream>
 #include <set>
 
+#include <Eigen/Geometry>
+
+#include "tightbvh/collide_trace.hpp"
 #include "tightbvh/tree_walk.hpp"
 #include "view/embedded.hpp"
 #include "view/page.hpp"
@@ -112,6 +115,38 @@ TEST(ViewScene, ContactsAreTheTouchingTriangles) {
   EXPECT_LT((at(scene["contacts"][1], 0) - pose_b.apply(a.corners(*tb.begin())[0])).norm(), 1e-6);
   EXPECT_EQ(scene["result"]["pairs"], result.pairs.size());
   EXPECT_EQ(scene["result"]["mode"], "all_pairs");
+}
+
+TEST(ViewScene, DescentStepsAreTheVisitedNodePairs) {
+  Mesh a = shipped("knot1.off");
+  a.triangles.resize(400);
+  const Tree tree = build(a, {.fitter = FitMethod::pca, .threads = 1});
+  Pose pose_b;
+  pose_b.rotation = Eigen::AngleAxisd(0.3, Vec3::UnitZ()).toRotationMatrix();
+  pose_b.translation = Vec3(0.01, 0.005, 0);
+  const CollideTrace trace = collide_trace(tree, a, Pose{}, tree, a, pose_b, {.mode = QueryMode::all_pairs});
+  ASSERT_TRUE(trace.result.hit);
+  const std::size_t max_drawn = 50;
+  ASSERT_GT(trace.pairs.size(), max_drawn);
+  const nlohmann::json d = descent_json(trace, tree, tree, pose_b, max_drawn);
+  EXPECT_EQ(d["visited"], trace.visited);
+  EXPECT_EQ(d["drawn"], max_drawn);
+  ASSERT_EQ(d["steps"].size(), 4 * max_drawn);
+  EXPECT_EQ(d["per_level"].size(), trace.per_level.size());
+  // Each step's boxes are its nodes' boxes (B's posed), outcome and level as traced.
+  for (std::size_t i = 0; i < max_drawn; ++i) {
+    const VisitedPair& p = trace.pairs[i];
+    const std::size_t ia = d["steps"][4 * i], ib = d["steps"][4 * i + 1];
+    EXPECT_EQ(d["steps"][4 * i + 2], static_cast<int>(p.outcome));
+    EXPECT_EQ(d["steps"][4 * i + 3], p.level);
+    const auto box_a = tree.nodes[p.a].box.obb().corners();
+    const auto box_b = tree.nodes[p.b].box.obb().transformed(pose_b).corners();
+    for (int k = 0; k < 8; ++k) {
+      EXPECT_LT((corner(d["boxes_a"], 15 * ia, k) - box_a[k]).norm(), 1e-4);
+      EXPECT_LT((corner(d["boxes_b"], 15 * ib, k) - box_b[k]).norm(), 1e-4);
+    }
+  }
+  EXPECT_LE(d["boxes_a"].size(), 15 * max_drawn);
 }
 
 TEST(ViewPage, SelfContainedAndEscaped) {

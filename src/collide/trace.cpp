@@ -1,0 +1,133 @@
+// collide_trace(): collide()'s descent, recorded (include/tightbvh/collide_trace.hpp). Kept apart
+// from collide.cpp so that the hot loop there stays as it is; the node test and the leaf test
+// below must stay the same computation as collide_trees() (same traverse_pairs, the same box
+// helpers of query_common.hpp and query_workspace.hpp, same triangle order in the leaves), which
+// tests/collide/trace_test.cpp checks by comparing first hits and test counts with collide().
+#include "tightbvh/collide_trace.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "query_common.hpp"
+#include "query_workspace.hpp"
+#include "tightbvh/obb_overlap.hpp"
+#include "tightbvh/tri_tri.hpp"
+#include "traverse.hpp"
+
+namespace tightbvh {
+namespace {
+
+using namespace query_detail;
+
+// collide.cpp's kLeafChunk: B's triangles are tested in chunks of this many per A triangle, which
+// fixes the order of the triangle tests and hence the first hit.
+constexpr std::uint32_t kLeafChunk = 32;
+
+// Depth of every node (root 0).
+std::vector<std::uint32_t> node_depths(const Tree& tree) {
+  std::vector<std::uint32_t> depth(tree.nodes.size(), 0);
+  std::vector<std::uint32_t> stack{0};
+  while (!stack.empty()) {
+    const std::uint32_t i = stack.back();
+    stack.pop_back();
+    const Node& n = tree.nodes[i];
+    if (n.is_leaf()) continue;
+    for (const std::uint32_t c : {n.first, n.first + 1}) {
+      depth[c] = depth[i] + 1;
+      stack.push_back(c);
+    }
+  }
+  return depth;
+}
+
+}  // namespace
+
+CollideTrace collide_trace(const Tree& ta, const Mesh& ma, const Pose& pa, const Tree& tb, const Mesh& mb,
+                           const Pose& pb, const QueryOptions& options, const CollideTraceOptions& trace_options) {
+  CollideTrace trace;
+  QueryResult& result = trace.result;
+  if (ta.nodes.empty() || tb.nodes.empty()) return trace;
+  check_tree_fits_mesh("collide", ta, ma, "A");
+  check_tree_fits_mesh("collide", tb, mb, "B");
+  if (!(options.margin >= 0.0) || !std::isfinite(options.margin))
+    throw InputError("collide: margin must be finite and >= 0, got " + std::to_string(options.margin));
+  const bool first_hit = options.mode == QueryMode::first_hit;
+  const bool with_margin = options.margin != 0.0;
+  const Pose rel = relative_pose(pa, pb);
+  double margin = box_allowance(ta, tb, rel);
+  if (with_margin) margin += options.margin;
+  const std::vector<std::uint32_t> depth_a = node_depths(ta), depth_b = node_depths(tb);
+
+  // Each visited pair, recorded as the node test sees it; a leaf pair's outcome is settled by the
+  // leaf test, which traverse_pairs calls right after a passing node test of two leaves.
+  bool last_recorded = false;
+  const auto record = [&](std::uint32_t ia, std::uint32_t ib, PairOutcome outcome) {
+    const std::uint32_t level = depth_a[ia] + depth_b[ib];
+    if (trace.per_level.size() <= level) trace.per_level.resize(level + 1, {});
+    ++trace.per_level[level][static_cast<std::size_t>(outcome)];
+    ++trace.visited;
+    last_recorded = trace.pairs.size() < trace_options.max_pairs;
+    if (last_recorded) trace.pairs.push_back({ia, ib, level, outcome});
+  };
+  const auto mark_last_hit = [&](std::uint32_t ia, std::uint32_t ib) {
+    auto& counts = trace.per_level[depth_a[ia] + depth_b[ib]];
+    --counts[static_cast<std::size_t>(PairOutcome::leaves)];
+    ++counts[static_cast<std::size_t>(PairOutcome::hit)];
+    if (last_recorded) trace.pairs.back().outcome = PairOutcome::hit;
+  };
+
+  BoxCache cache;
+  cache.begin(tb.nodes.size());
+  const auto boxes_overlap = [&](std::uint32_t ia, std::uint32_t ib) {
+    const CompactBox& ba = ta.nodes[ia].box;
+    const CompactBox& bb = tb.nodes[ib].box;
+    ++result.stats.box_tests;
+    const MappedBox& mapped_box = cache.mapped(ib, bb, rel);  // B's box in A's frame, once per query
+    const auto [c, d] = in_box_frame(ba, mapped_box.axes, mapped_box.center);
+    const bool overlap = obb_overlap(c, d, ba.half_extents_d(), bb.half_extents_d(), margin);
+    const bool leaves = ta.nodes[ia].is_leaf() && tb.nodes[ib].is_leaf();
+    record(ia, ib, !overlap ? PairOutcome::culled : leaves ? PairOutcome::leaves : PairOutcome::descended);
+    return overlap;
+  };
+  std::array<std::array<Vec3, 3>, kLeafChunk> mapped;
+  const auto triangles_touch = [&](std::uint32_t ia_node, std::uint32_t ib_node) {
+    const Node& na = ta.nodes[ia_node];
+    const Node& nb = tb.nodes[ib_node];
+    bool reported = false;
+    for (std::uint32_t cb = 0; cb < nb.count; cb += kLeafChunk) {
+      const std::uint32_t nbc = std::min(kLeafChunk, nb.count - cb);
+      for (std::uint32_t j = 0; j < nbc; ++j) {
+        const Triangle& tri = mb.triangles[tb.triangle_order[nb.first + cb + j]];
+        for (int k = 0; k < 3; ++k) mapped[j][k] = map_point(rel, mb.vertices[tri[k]]);
+      }
+      for (std::uint32_t i = 0; i < na.count; ++i) {
+        const std::uint32_t ia = ta.triangle_order[na.first + i];
+        const auto [p0, p1, p2] = ma.corners(ia);
+        for (std::uint32_t j = 0; j < nbc; ++j) {
+          ++result.stats.triangle_tests;
+          const bool report = with_margin
+                                  ? within_margin(p0, p1, p2, mapped[j][0], mapped[j][1], mapped[j][2], options.margin)
+                                  : tri_tri_overlap(p0, p1, p2, mapped[j][0], mapped[j][1], mapped[j][2]);
+          if (!report) continue;
+          result.hit = true;
+          result.pairs.push_back({ia, tb.triangle_order[nb.first + cb + j]});
+          if (!reported) mark_last_hit(ia_node, ib_node);
+          reported = true;
+          if (first_hit) return Walk::stop;
+        }
+      }
+    }
+    return Walk::go_on;
+  };
+  PairStack stack;
+  traverse_pairs(ta, tb, options.descend, stack, boxes_overlap, triangles_touch);
+  if (!first_hit) {
+    std::sort(result.pairs.begin(), result.pairs.end());
+    result.pairs.erase(std::unique(result.pairs.begin(), result.pairs.end()), result.pairs.end());
+  }
+  return trace;
+}
+
+}  // namespace tightbvh

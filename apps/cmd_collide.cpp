@@ -1,6 +1,6 @@
 // tightbvh collide MESH_A MESH_B --pose "r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz"
-//   [--all-pairs] [--margin D] [--fitter F] [--json] [--view DIR]: builds both trees and runs one
-// query with A at the identity and B at the given pose (B's transform in A's frame, rotation
+//   [--all-pairs] [--margin D] [--solid] [--fitter F] [--json] [--view DIR]: builds both trees and
+// runs one query with A at the identity and B at the given pose (B's transform in A's frame, rotation
 // row-major). --view writes DIR/index.html: both posed meshes with the touching triangles
 // highlighted, and the node pairs the descent visited (collide_trace, run once more for the page).
 #include <chrono>
@@ -15,6 +15,7 @@
 #include "commands.hpp"
 #include "names.hpp"
 #include "tightbvh/build.hpp"
+#include "tightbvh/closed.hpp"
 #include "tightbvh/collide.hpp"
 #include "tightbvh/collide_trace.hpp"
 #include "tightbvh/pose_text.hpp"
@@ -59,7 +60,7 @@ struct Args {
   std::uint32_t leaf_size = 1;
   unsigned threads = 0;
   double margin = 0.0;
-  bool all_pairs = false, json = false;
+  bool all_pairs = false, json = false, solid = false;
 };
 
 struct Run {
@@ -75,9 +76,16 @@ struct Run {
 // Builds both trees and runs the query.
 [[nodiscard]] Run run_collide(const Args& args) {
   Run run{load_pair(args.mesh_a, args.mesh_b, args.pose, args.fitter, args.leaf_size, args.threads), {}};
-  const QueryOptions options = query_options(args);
-  const auto start = std::chrono::steady_clock::now();
   const MeshPair& p = run.pair;
+  // --solid: the meshes' closedness once, outside the timed query (an open mesh is the error).
+  const Closedness closed_a = args.solid ? check_closed(p.a) : Closedness{};
+  const Closedness closed_b = args.solid ? check_closed(p.b) : Closedness{};
+  const QueryOptions options{.mode = args.all_pairs ? QueryMode::all_pairs : QueryMode::first_hit,
+                             .margin = args.margin,
+                             .solid = args.solid,
+                             .closed_a = &closed_a,
+                             .closed_b = &closed_b};
+  const auto start = std::chrono::steady_clock::now();
   run.result = collide(p.ta, p.a, Pose::identity(), p.tb, p.b, p.pose_b, options);
   run.query_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return run;
@@ -107,7 +115,9 @@ void print_collide(const Args& args, const Run& run) {
                           {"fitter", to_string(run.pair.fitter)},
                           {"mode", args.all_pairs ? "all_pairs" : "first_hit"},
                           {"margin", args.margin},
+                          {"solid", args.solid},
                           {"hit", r.hit},
+                          {"inside", to_string(r.inside)},
                           {"pair_count", r.pairs.size()},
                           {"pairs", pairs},
                           {"box_tests", r.stats.box_tests},
@@ -118,7 +128,10 @@ void print_collide(const Args& args, const Run& run) {
     std::cout << out.dump(2) << '\n';
     return;
   }
-  std::cout << "hit: " << (r.hit ? "yes" : "no") << '\n'
+  std::cout << "hit: " << (r.hit ? "yes" : "no") << '\n';
+  if (r.inside == Inside::b_in_a) std::cout << "inside: B is inside A (no surfaces touch)\n";
+  if (r.inside == Inside::a_in_b) std::cout << "inside: A is inside B (no surfaces touch)\n";
+  std::cout
             << (args.all_pairs ? "pairs: " : "pairs (first hit): ") << r.pairs.size() << '\n'
             << "box tests: " << r.stats.box_tests << '\n'
             << "triangle tests: " << r.stats.triangle_tests << '\n'
@@ -139,6 +152,8 @@ void add_collide_command(CLI::App& app) {
   cmd->add_flag("--all-pairs", args->all_pairs, "report every touching triangle pair (default: first hit)");
   cmd->add_option("--margin", args->margin, "report triangle pairs at distance <= D instead of touching ones")
       ->capture_default_str();
+  cmd->add_flag("--solid", args->solid,
+                "closed meshes are solids: also a hit when one is inside the other (error for an open mesh)");
   cmd->add_option("--fitter", args->fitter, choices(fitter_names()))->capture_default_str();
   cmd->add_option("--leaf-size", args->leaf_size, "max triangles per leaf")
       ->check(CLI::PositiveNumber)

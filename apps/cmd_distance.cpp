@@ -1,5 +1,5 @@
 // tightbvh distance MESH_A MESH_B --pose "r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz"
-//   [--abs-error E] [--rel-error R] [--upper-bound D] [--fitter F] [--json]: builds both trees and
+//   [--abs-error E] [--rel-error R] [--upper-bound D] [--solid] [--fitter F] [--json]: builds both trees and
 // returns the minimum distance with A at the identity and B at the given pose (as collide).
 #include <chrono>
 #include <iostream>
@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "names.hpp"
 #include "tightbvh/build.hpp"
+#include "tightbvh/closed.hpp"
 #include "tightbvh/distance.hpp"
 
 namespace tightbvh::cli {
@@ -31,9 +32,15 @@ struct Run {
 
 [[nodiscard]] Run run_distance(const Args& args) {
   Run run{load_pair(args.mesh_a, args.mesh_b, args.pose, args.fitter, args.leaf_size, args.threads), {}};
-  const auto start = std::chrono::steady_clock::now();
   const MeshPair& p = run.pair;
-  run.result = distance(p.ta, p.a, Pose::identity(), p.tb, p.b, p.pose_b, args.options);
+  // --solid: the meshes' closedness once, outside the timed query (an open mesh is the error).
+  const Closedness closed_a = args.options.solid ? check_closed(p.a) : Closedness{};
+  const Closedness closed_b = args.options.solid ? check_closed(p.b) : Closedness{};
+  DistanceOptions options = args.options;
+  options.closed_a = &closed_a;
+  options.closed_b = &closed_b;
+  const auto start = std::chrono::steady_clock::now();
+  run.result = distance(p.ta, p.a, Pose::identity(), p.tb, p.b, p.pose_b, options);
   run.query_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return run;
 }
@@ -48,12 +55,14 @@ void print_distance(const Args& args, const Run& run) {
                           {"fitter", to_string(run.pair.fitter)},
                           {"distance", r.distance},
                           {"beyond_upper_bound", r.beyond_upper_bound},
+                          {"solid", args.options.solid},
+                          {"inside", to_string(r.inside)},
                           {"node_pairs", r.stats.node_pairs},
                           {"triangle_pairs", r.stats.triangle_pairs},
                           {"seconds", run.query_seconds},
                           {"build_seconds", run.pair.build_seconds}};
     if (!r.beyond_upper_bound) {
-      out["triangles"] = {r.pair.a, r.pair.b};
+      if (r.inside == Inside::none) out["triangles"] = {r.pair.a, r.pair.b};
       out["point_a"] = to_json(r.point_a);
       out["point_b"] = to_json(r.point_b);
       out["point_a_local"] = to_json(r.point_a_local);
@@ -65,6 +74,10 @@ void print_distance(const Args& args, const Run& run) {
   std::cout.precision(17);
   if (r.beyond_upper_bound) {
     std::cout << "distance: >= " << r.distance << " (upper bound reached)\n";
+  } else if (r.inside != Inside::none) {
+    std::cout << "distance: 0 (" << (r.inside == Inside::b_in_a ? "B is inside A" : "A is inside B")
+              << ", no surfaces touch)\n"
+              << "common point: " << r.point_a.transpose() << '\n';
   } else {
     std::cout << "distance: " << r.distance << '\n'
               << "triangles: " << r.pair.a << " (A), " << r.pair.b << " (B)\n"
@@ -93,6 +106,8 @@ void add_distance_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--upper-bound", args->options.upper_bound, "only report distances below this")
       ->capture_default_str();
+  cmd->add_flag("--solid", args->options.solid,
+                "closed meshes are solids: 0 when one is inside the other (error for an open mesh)");
   cmd->add_option("--fitter", args->fitter, choices(fitter_names()))->capture_default_str();
   cmd->add_option("--leaf-size", args->leaf_size, "max triangles per leaf")
       ->check(CLI::PositiveNumber)

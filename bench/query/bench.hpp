@@ -23,13 +23,15 @@ namespace tightbvh::bench {
 using Pair = std::pair<std::uint32_t, std::uint32_t>;
 
 // margin: all_pairs with a safety margin of 1% of Input::scale (pairs at distance <= margin).
-enum class Mode { first_hit, all_pairs, distance, margin };
+// solid: first_hit with QueryOptions::solid (closed meshes: also a hit when one is inside the other).
+enum class Mode { first_hit, all_pairs, distance, margin, solid };
 [[nodiscard]] inline const char* to_string(Mode m) {
   switch (m) {
     case Mode::first_hit: return "first_hit";
     case Mode::all_pairs: return "all_pairs";
     case Mode::distance: return "distance";
     case Mode::margin: return "margin";
+    case Mode::solid: return "solid";
   }
   return "?";
 }
@@ -62,6 +64,8 @@ struct Answers {
 //   double distance(const Pose& b_in_a);                      // minimum distance (0: touching)
 // and, for engines with EngineInfo::margin,
 //   void margin_pairs(const Pose& b_in_a, std::vector<Pair>& out); // pairs within the margin
+// and, for engines with EngineInfo::solid,
+//   bool solid_hit(const Pose& b_in_a);                       // touching, or one inside the other
 // Pose = the rigid transform applied to B's vertices in A's frame (A at identity).
 
 // The untimed pass whose answers are checked (it is also the warm-up).
@@ -78,6 +82,13 @@ void margin_pairs_of(A& adapter, const Pose& pose, std::vector<Pair>& out) {
   if constexpr (requires { adapter.margin_pairs(pose, out); }) adapter.margin_pairs(pose, out);
 }
 
+// The solid first hit of an adapter that has one (only called for engines with EngineInfo::solid).
+template <class A>
+[[nodiscard]] bool solid_hit_of(A& adapter, const Pose& pose) {
+  if constexpr (requires { adapter.solid_hit(pose); }) return adapter.solid_hit(pose);
+  else return false;
+}
+
 template <class A>
 [[nodiscard]] Answers answer_all(A& adapter, Mode mode, std::span<const Pose> poses) {
   Answers out;
@@ -90,6 +101,8 @@ template <class A>
       out.hit[i] = out.distance[i] == 0.0 ? 1 : 0;
     } else if (mode == Mode::first_hit) {
       out.hit[i] = adapter.first_hit(poses[i]) ? 1 : 0;
+    } else if (mode == Mode::solid) {
+      out.hit[i] = solid_hit_of(adapter, poses[i]) ? 1 : 0;
     } else {
       auto& pairs = out.pairs[i];
       if (mode == Mode::margin)
@@ -118,6 +131,8 @@ template <class A>
       for (const Pose& p : poses) sink += distance_of(adapter, p) > 0.0 ? 1 : 0;
     } else if (mode == Mode::first_hit) {
       for (const Pose& p : poses) sink += adapter.first_hit(p) ? 1 : 0;
+    } else if (mode == Mode::solid) {
+      for (const Pose& p : poses) sink += solid_hit_of(adapter, p) ? 1 : 0;
     } else {
       for (const Pose& p : poses) {
         scratch.clear();
@@ -191,6 +206,7 @@ struct EngineInfo {
   std::function<std::unique_ptr<Prepared>(const Input&)> build;
   bool distance = false;   // answers minimum-distance queries
   bool margin = false;     // reports the pairs within a safety margin
+  bool solid = false;      // first_hit on solids (one inside the other counts)
 };
 
 // Engine registries, one per translation unit.
@@ -209,6 +225,10 @@ class Reference {
   [[nodiscard]] double distance(const Pose& b_in_a) const;
   [[nodiscard]] double brute_force_distance(const Pose& b_in_a) const;  // every triangle pair
   [[nodiscard]] std::vector<Pair> margin_pairs(const Pose& b_in_a) const;  // sorted
+  // Solids (both meshes must be closed: else InputError): a hit, touching or one inside the other;
+  // and "one inside the other without touching".
+  [[nodiscard]] bool solid_collides(const Pose& b_in_a) const;
+  [[nodiscard]] bool contained(const Pose& b_in_a) const;
   [[nodiscard]] std::string description() const;
 
  private:

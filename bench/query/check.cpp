@@ -79,6 +79,13 @@ Agreement compare_exact_pairs(const Answers& got, const std::vector<std::vector<
   return a;
 }
 
+Agreement compare_hits(const Answers& got, const std::vector<std::uint8_t>& reference) {
+  Agreement a;
+  for (std::size_t i = 0; i < reference.size(); ++i)
+    if (got.hit[i] != reference[i]) ++a.yes_no;
+  return a;
+}
+
 Agreement compare(const Input& in, Mode mode, const Answers& got, const std::vector<std::vector<Pair>>& reference,
                   const std::vector<Pose>& poses, double tolerance) {
   Agreement a;

@@ -32,6 +32,9 @@ struct Agreement {
 // Margin mode: the pair sets must be equal (the same predicate on the same triangles).
 [[nodiscard]] Agreement compare_exact_pairs(const Answers& got, const std::vector<std::vector<Pair>>& reference);
 
+// Solid mode: the yes/no of every pose must equal the reference's (exact predicates on both sides).
+[[nodiscard]] Agreement compare_hits(const Answers& got, const std::vector<std::uint8_t>& reference);
+
 // Distance between triangle ta of A and triangle tb of B placed at `pose` (0 if they touch).
 [[nodiscard]] double triangle_distance(const Input& in, const Pose& pose, Pair pair);
 

@@ -1,9 +1,12 @@
 // Our engines (tightbvh-*), our trees inside FCL (fcl-export-*), and the reference.
 #include <chrono>
+#include <optional>
 #include <string>
+#include <type_traits>
 
 #include "fcl_adapter.hpp"
 #include "tightbvh/build.hpp"
+#include "tightbvh/closed.hpp"
 #include "tightbvh/collide.hpp"
 #include "tightbvh/distance.hpp"
 #include "tightbvh/fcl/export.hpp"
@@ -49,6 +52,15 @@ class TightbvhAdapter {
   [[nodiscard]] const Tree& b() const { return b_; }
   [[nodiscard]] const Mesh& ma() const { return ma_; }
   [[nodiscard]] const Mesh& mb() const { return mb_; }
+  // The meshes' closedness is computed on the first call (the checked warm-up pass), as a user
+  // computes it once per mesh; an open mesh throws there.
+  [[nodiscard]] bool solid_hit(const Pose& pose) const {
+    if (!closed_a_) closed_a_ = check_closed(ma_), closed_b_ = check_closed(mb_);
+    return collide(a_, ma_, Pose::identity(), b_, mb_, pose,
+                   {.mode = QueryMode::first_hit, .solid = true, .closed_a = &*closed_a_, .closed_b = &*closed_b_},
+                   workspace_)
+        .hit;
+  }
 
  private:
   const Mesh& ma_;
@@ -58,6 +70,7 @@ class TightbvhAdapter {
   // Scratch reused by every query of this engine (engines run on one thread); mutable because
   // the queries are logically const.
   mutable QueryWorkspace workspace_;
+  mutable std::optional<Closedness> closed_a_, closed_b_;
 };
 
 // The same trees and queries through a QueryCache (front tracking), one cache per mode, so each
@@ -104,7 +117,7 @@ EngineInfo cached(const std::string& name, Fitter fitter) {
 EngineInfo ours(const std::string& name, Fitter fitter) {
   return {name, true, true, "",
           [fitter](const Input& in) { return prepare([&] { return std::make_unique<TightbvhAdapter>(in, fitter); }); },
-          true, true};
+          true, true, true};
 }
 
 // Our tree (fitter `method` everywhere, also below our leaves) exported into FCL's BVHModel<OBB>.
@@ -121,6 +134,26 @@ EngineInfo exported(const std::string& name, FitMethod method) {
           }};
 }
 
+// Our approx tree exported into FCL's BVHModel<RSS> or <OBBRSS> (RSS fitted to our boxes),
+// queried by FCL's own fcl::distance (issue 15, item 6). RSS models answer distances only.
+template <class BV>
+EngineInfo exported_distance(const std::string& name, bool collide) {
+  return {name, collide, collide, collide ? "" : "distance mode only",
+          [](const Input& in) {
+            return prepare([&] {
+              FclExportOptions options;
+              options.fit.method = FitMethod::approx;
+              const Tree ta = build_tree(in.a, FitMethod::approx), tb = build_tree(in.b, FitMethod::approx);
+              if constexpr (std::is_same_v<BV, fcl::RSS<double>>)
+                return std::make_unique<FclAdapter<BV>>(to_fcl_rss(ta, in.a, options), to_fcl_rss(tb, in.b, options));
+              else
+                return std::make_unique<FclAdapter<BV>>(to_fcl_obbrss(ta, in.a, options),
+                                                        to_fcl_obbrss(tb, in.b, options));
+            });
+          },
+          true};
+}
+
 // Brute force (every triangle pair) is affordable up to this many pairs per query.
 constexpr double kBruteForcePairs = 2e6;
 
@@ -134,7 +167,9 @@ std::vector<EngineInfo> tightbvh_engines() {
           cached("tightbvh-approx-qc", FitMethod::approx),
           cached("tightbvh-auto-qc", AutoFit{}),
           exported("fcl-export-pca", FitMethod::pca),
-          exported("fcl-export-approx", FitMethod::approx)};
+          exported("fcl-export-approx", FitMethod::approx),
+          exported_distance<fcl::RSS<double>>("fcl-export-rss", false),
+          exported_distance<fcl::OBBRSS<double>>("fcl-export-obbrss", true)};
 }
 
 struct Reference::Impl {
@@ -142,9 +177,15 @@ struct Reference::Impl {
   bool brute = false;
   Tree a, b;
   QueryWorkspace workspace;
+  std::optional<Closedness> closed_a, closed_b;  // solid: computed on first use
+
+  [[nodiscard]] QueryOptions solid() {
+    if (!closed_a) closed_a = check_closed(in.a), closed_b = check_closed(in.b);
+    return {.mode = QueryMode::first_hit, .solid = true, .closed_a = &*closed_a, .closed_b = &*closed_b};
+  }
 };
 
-Reference::Reference(const Input& in) : impl_(new Impl{in, false, {}, {}, {}}) {
+Reference::Reference(const Input& in) : impl_(new Impl{in, false, {}, {}, {}, {}, {}}) {
   impl_->brute = double(in.a.triangles.size()) * double(in.b.triangles.size()) <= kBruteForcePairs;
   // Axis-aligned boxes: the simplest boxes, so the reference does not lean on a tight fitter.
   impl_->a = build_tree(in.a, FitMethod::aabb);
@@ -189,6 +230,20 @@ std::vector<Pair> Reference::margin_pairs(const Pose& p) const {
   std::vector<Pair> out;
   for (const TrianglePair& t : r.pairs) out.emplace_back(t.a, t.b);
   return out;  // sorted and unique already
+}
+
+bool Reference::solid_collides(const Pose& p) const {
+  const QueryOptions options = impl_->solid();
+  return impl_->brute ? collide_brute_force(impl_->in.a, Pose::identity(), impl_->in.b, p, options).hit
+                      : collide(impl_->a, impl_->in.a, Pose::identity(), impl_->b, impl_->in.b, p, options,
+                                impl_->workspace)
+                            .hit;
+}
+
+bool Reference::contained(const Pose& p) const {
+  const QueryOptions options = impl_->solid();
+  return collide(impl_->a, impl_->in.a, Pose::identity(), impl_->b, impl_->in.b, p, options, impl_->workspace).inside !=
+         Inside::none;
 }
 
 std::string Reference::description() const {

@@ -68,7 +68,7 @@ struct Options {
   std::string poses_file, write_poses_file, json_file, csv_file, report_dir;
   int poses = 100, repetitions = 5, brute_check = 0;
   std::uint64_t seed = 1;
-  double budget = 1.0;
+  double budget = 1.0, scale_b = 1.0;
   bool list = false;
 };
 
@@ -78,16 +78,21 @@ void add_options(CLI::App& app, Options& o) {
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.add_option("--mesh-a", o.mesh_a, "mesh A (stays at identity)")->capture_default_str();
   app.add_option("--mesh-b", o.mesh_b, "mesh B (moved by each pose)")->capture_default_str();
+  app.add_option("--scale-b", o.scale_b, "scale B about its box center first (e.g. 0.1 for the inside scenario)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   app.add_option("--engines", o.engines_arg, "comma-separated engines, or 'all' (see --list-engines)")
       ->capture_default_str();
   app.add_option("--poses", o.poses, "poses per scenario")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--seed", o.seed, "random seed of the generated poses")->capture_default_str();
   app.add_option("--scenario", o.scenario_arg,
-                 "comma-separated: overlap, near, separated, gap, trajectory, all (all: the first three)")
+                 "comma-separated: overlap, near, separated, gap, trajectory, inside, all (all: the first three)")
       ->capture_default_str();
   app.add_option("--poses-file", o.poses_file, "read poses (12 numbers a line) instead of generating them");
   app.add_option("--write-poses", o.write_poses_file, "save the generated poses");
-  app.add_option("--modes", o.modes_arg, "comma-separated: first_hit, all_pairs, distance, margin (1% of the scale)")
+  app.add_option("--modes", o.modes_arg,
+                 "comma-separated: first_hit, all_pairs, distance, margin (1% of the scale), solid (first_hit on "
+                 "closed meshes, containment included)")
       ->capture_default_str();
   app.add_option("--repetitions", o.repetitions, "timed passes (median reported)")
       ->capture_default_str()
@@ -132,8 +137,9 @@ std::optional<Selection> parse_selection(const Options& o, std::vector<tb::Engin
     else if (m == "all_pairs") sel.modes.push_back(tb::Mode::all_pairs);
     else if (m == "distance") sel.modes.push_back(tb::Mode::distance);
     else if (m == "margin") sel.modes.push_back(tb::Mode::margin);
+    else if (m == "solid") sel.modes.push_back(tb::Mode::solid);
     else {
-      std::cerr << "tightbvh-bench: unknown mode '" << m << "' (first_hit, all_pairs, distance, margin)\n";
+      std::cerr << "tightbvh-bench: unknown mode '" << m << "' (first_hit, all_pairs, distance, margin, solid)\n";
       return std::nullopt;
     }
   }
@@ -147,7 +153,8 @@ std::optional<Selection> parse_selection(const Options& o, std::vector<tb::Engin
       } else if (auto s = tb::parse_scenario(name)) {
         sel.scenarios.push_back(*s);
       } else {
-        std::cerr << "tightbvh-bench: unknown scenario '" << name << "' (overlap, near, separated, gap, trajectory, all)\n";
+        std::cerr << "tightbvh-bench: unknown scenario '" << name
+                  << "' (overlap, near, separated, gap, trajectory, inside, all)\n";
         return std::nullopt;
       }
     }
@@ -162,6 +169,13 @@ tb::Input load_input(const Options& o) {
   input.name_b = std::filesystem::path(o.mesh_b).filename().string();
   input.a = tightbvh::load_mesh(o.mesh_a);
   input.b = tightbvh::load_mesh(o.mesh_b);
+  if (o.scale_b != 1.0) {
+    const tightbvh::Vec3 center = tightbvh::bounds_of(input.b.vertices).center();
+    for (tightbvh::Vec3& v : input.b.vertices) v = center + o.scale_b * (v - center);
+    std::ostringstream name;
+    name << input.name_b << " x" << o.scale_b;
+    input.name_b = name.str();
+  }
   input.scale = std::max(tightbvh::bounds_of(input.a.vertices).diagonal(), tightbvh::bounds_of(input.b.vertices).diagonal());
   return input;
 }
@@ -191,20 +205,24 @@ class Run {
     const std::vector<Pose> ps =
         scenario ? tb::generate_poses(input_.a, input_.b, *scenario, o_.poses, o_.seed,
                                       [&](const Pose& p) { return reference_.collides(p); },
-                                      [&](const Pose& p) { return reference_.distance(p); })
+                                      [&](const Pose& p) { return reference_.distance(p); },
+                                      [&](const Pose& p) { return reference_.contained(p); })
                  : tb::read_poses(o_.poses_file);
     if (!scenario) info_.poses = int(ps.size());
     if (!o_.write_poses_file.empty()) written.insert(written.end(), ps.begin(), ps.end());
     const auto wants = [&](tb::Mode m) { return std::count(sel_.modes.begin(), sel_.modes.end(), m) > 0; };
     const bool want_distance = wants(tb::Mode::distance), want_margin = wants(tb::Mode::margin);
+    const bool want_solid = wants(tb::Mode::solid);
     const bool want_pairs = wants(tb::Mode::first_hit) || wants(tb::Mode::all_pairs);
     std::vector<std::vector<tb::Pair>> ref_pairs(ps.size());
     std::vector<double> ref_distance(want_distance ? ps.size() : 0);
     std::vector<std::vector<tb::Pair>> ref_margin(want_margin ? ps.size() : 0);
+    std::vector<std::uint8_t> ref_solid(want_solid ? ps.size() : 0);
     for (std::size_t i = 0; i < ps.size(); ++i) {
       if (want_pairs) ref_pairs[i] = reference_.pairs(ps[i]);
       if (want_distance) ref_distance[i] = reference_.distance(ps[i]);
       if (want_margin) ref_margin[i] = reference_.margin_pairs(ps[i]);
+      if (want_solid) ref_solid[i] = reference_.solid_collides(ps[i]) ? 1 : 0;
       progress_.show(sname + ": reference", double(i + 1) / ps.size());
     }
     if (want_distance) brute_check(sname, ps, ref_distance);
@@ -213,7 +231,7 @@ class Run {
                                           [&](const Pose& p) { return reference_.pairs(p); }));
     std::vector<Job> jobs = prepare(sname, ps);
     time_passes(sname, ps, jobs);
-    add_rows(sname, ps, jobs, ref_pairs, ref_distance, ref_margin);
+    add_rows(sname, ps, jobs, ref_pairs, ref_distance, ref_margin, ref_solid);
   }
 
   std::map<std::string, std::unique_ptr<tb::Prepared>> built;
@@ -296,13 +314,14 @@ class Run {
       case tb::Mode::all_pairs: return e.all_pairs;
       case tb::Mode::distance: return e.distance;
       case tb::Mode::margin: return e.margin;
+      case tb::Mode::solid: return e.solid;
     }
     return false;
   }
 
   void add_rows(const std::string& sname, const std::vector<Pose>& ps, const std::vector<Job>& jobs,
                 const std::vector<std::vector<tb::Pair>>& ref_pairs, const std::vector<double>& ref_distance,
-                const std::vector<std::vector<tb::Pair>>& ref_margin) {
+                const std::vector<std::vector<tb::Pair>>& ref_margin, const std::vector<std::uint8_t>& ref_solid) {
     for (const Job& job : jobs) {
       tb::Row row{sname, job.info->name, job.mode, job.engine->build_seconds, ps.size(), tb::median(job.times),
                   int(job.times.size()), 0, 0, {}, {}};
@@ -314,6 +333,8 @@ class Run {
         row.agreement = tb::compare_distances(job.answers, ref_distance, input_.scale);
       else if (job.mode == tb::Mode::margin)
         row.agreement = tb::compare_exact_pairs(job.answers, ref_margin);
+      else if (job.mode == tb::Mode::solid)
+        row.agreement = tb::compare_hits(job.answers, ref_solid);
       else
         row.agreement = tb::compare(input_, job.mode, job.answers, ref_pairs, ps, info_.tolerance);
       rows.push_back(std::move(row));
@@ -324,6 +345,11 @@ class Run {
         ref_row.hits += p.empty() ? 0 : 1;
         ref_row.pairs += p.size();
       }
+      rows.push_back(ref_row);
+    }
+    if (!ref_solid.empty()) {
+      tb::Row ref_row{sname, "reference", tb::Mode::solid, 0, ps.size(), 0, 0, 0, 0, {}, {}};
+      for (const std::uint8_t h : ref_solid) ref_row.hits += h;
       rows.push_back(ref_row);
     }
     if (!ref_distance.empty()) {
@@ -381,9 +407,9 @@ int main(int argc, char** argv) {
     auto engines = all_engines();
     if (o.list) {
       for (const auto& e : engines)
-        std::printf("%-18s first_hit:%-3s all_pairs:%-3s distance:%-3s margin:%-3s %s\n", e.name.c_str(),
+        std::printf("%-18s first_hit:%-3s all_pairs:%-3s distance:%-3s margin:%-3s solid:%-3s %s\n", e.name.c_str(),
                     e.first_hit ? "yes" : "no", e.all_pairs ? "yes" : "no", e.distance ? "yes" : "no",
-                    e.margin ? "yes" : "no", e.note.c_str());
+                    e.margin ? "yes" : "no", e.solid ? "yes" : "no", e.note.c_str());
       return 0;
     }
     const std::optional<Selection> sel = parse_selection(o, std::move(engines));

@@ -139,6 +139,22 @@ void print_verdict(std::ostream& out, const std::vector<Row>& rows) {
       out << line;
     }
   }
+  // Issue #15: solid first_hit costs at most 1.2x the same engine's plain first_hit where the
+  // surfaces touch (on poses without contact it also casts the containment rays).
+  bool solid_header = false;
+  for (const Row& s : rows) {
+    if (s.mode != Mode::solid || s.engine == "reference" || s.qps() <= 0) continue;
+    for (const Row& f : rows) {
+      if (f.mode != Mode::first_hit || f.engine != s.engine || f.scenario != s.scenario || f.qps() <= 0) continue;
+      const double cost = f.qps() / s.qps();
+      if (!solid_header)
+        out << "\nsolid first_hit vs plain first_hit, same engine and poses (target 1.2x where surfaces touch):\n";
+      solid_header = true;
+      std::snprintf(line, sizeof line, "  %-10s solid     %-16s costs %5.2fx its first_hit (%zu vs %zu hits)\n",
+                    s.scenario.c_str(), s.engine.c_str(), cost, s.hits, f.hits);
+      out << line;
+    }
+  }
 }
 
 }  // namespace

@@ -18,12 +18,14 @@ std::string_view to_string(Scenario s) {
     case Scenario::separated: return "separated";
     case Scenario::gap: return "gap";
     case Scenario::trajectory: return "trajectory";
+    case Scenario::inside: return "inside";
   }
   return "?";
 }
 
 std::optional<Scenario> parse_scenario(std::string_view name) {
-  for (Scenario s : {Scenario::overlap, Scenario::near, Scenario::separated, Scenario::gap, Scenario::trajectory})
+  for (Scenario s : {Scenario::overlap, Scenario::near, Scenario::separated, Scenario::gap, Scenario::trajectory,
+                     Scenario::inside})
     if (to_string(s) == name) return s;
   return std::nullopt;
 }
@@ -137,8 +139,10 @@ std::vector<Pose> trajectory_pass(const Sphere& sa, const Sphere& sb, int count,
 
 std::vector<Pose> generate_poses(const Mesh& a, const Mesh& b, Scenario scenario, int count, std::uint64_t seed,
                                  const std::function<bool(const Pose&)>& collides,
-                                 const std::function<double(const Pose&)>& distance) {
+                                 const std::function<double(const Pose&)>& distance,
+                                 const std::function<bool(const Pose&)>& contained) {
   if (scenario == Scenario::gap && !distance) throw std::logic_error("generate_poses: gap needs a distance");
+  if (scenario == Scenario::inside && !contained) throw std::logic_error("generate_poses: inside needs `contained`");
   const double diagonal = std::max(bounds_of(a.vertices).diagonal(), bounds_of(b.vertices).diagonal());
   const Sphere sa = bounding_sphere(a), sb = bounding_sphere(b);
   // Each scenario gets its own stream, so `all` and a single scenario give the same poses.
@@ -160,6 +164,18 @@ std::vector<Pose> generate_poses(const Mesh& a, const Mesh& b, Scenario scenario
   while (int(poses.size()) < count) {
     const Mat3 rot = random_rotation(rng);
     const Vec3 dir = random_direction(rng);
+    if (scenario == Scenario::inside) {
+      const Aabb box = bounds_of(a.vertices);
+      Vec3 where;
+      for (int k = 0; k < 3; ++k)
+        where[k] = box.min[k] - sb.radius + u(rng) * (box.max[k] - box.min[k] + 2.0 * sb.radius);
+      const Pose pose = place(rot, sb.center, where);
+      if (contained(pose)) poses.push_back(pose);
+      else if (++attempts >= 1000 * count)
+        throw InputError("inside: no pose with one mesh inside the other (without touching) in " +
+                         std::to_string(attempts) + " tries; for meshes of similar size shrink B with --scale-b");
+      continue;
+    }
     if (scenario == Scenario::overlap) {
       const double r = 0.25 * std::min(sa.radius, sb.radius) * std::cbrt(u(rng));
       poses.push_back(place(rot, sb.center, sa.center + r * dir));

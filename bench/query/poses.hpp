@@ -14,7 +14,7 @@
 
 namespace tightbvh::bench {
 
-enum class Scenario { overlap, near, separated, gap, trajectory };
+enum class Scenario { overlap, near, separated, gap, trajectory, inside };
 [[nodiscard]] std::string_view to_string(Scenario s);
 [[nodiscard]] std::optional<Scenario> parse_scenario(std::string_view name);
 
@@ -38,11 +38,15 @@ struct Sphere {
 //              15% inside and back out (offset 0.15 cos(2 pi t) r_B from the first contact, which
 //              is bisected every 10 poses and interpolated linearly in between)
 inline constexpr int kTrajectoryPass = 100;
+//   inside:    B's center anywhere in A's box grown by B's radius, kept when `contained` (one
+//              mesh wholly inside the other, surfaces apart); InputError when none is found
+//              (meshes of similar size: shrink B with tightbvh-bench --scale-b)
 // Rotations are uniform random. Deterministic for a given seed.
 [[nodiscard]] std::vector<Pose> generate_poses(const Mesh& a, const Mesh& b, Scenario scenario, int count,
                                                std::uint64_t seed,
                                                const std::function<bool(const Pose&)>& collides,
-                                               const std::function<double(const Pose&)>& distance = {});
+                                               const std::function<double(const Pose&)>& distance = {},
+                                               const std::function<bool(const Pose&)>& contained = {});
 
 // One pose per line: r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz; '#' starts a comment.
 // Throws InputError naming the file and line on a wrong count, a non-number, NaN/Inf or a

@@ -293,7 +293,7 @@ void write_report(const std::filesystem::path& dir, const RunInfo& info, const s
   for (const Row& r : rows)
     if (std::find(scenarios.begin(), scenarios.end(), r.scenario) == scenarios.end()) scenarios.push_back(r.scenario);
   for (const auto& sc : scenarios)
-    for (Mode m : {Mode::first_hit, Mode::all_pairs, Mode::distance, Mode::margin}) {
+    for (Mode m : {Mode::first_hit, Mode::all_pairs, Mode::distance, Mode::margin, Mode::solid}) {
       std::vector<const Row*> sel;
       for (const Row& r : rows)
         if (r.scenario == sc && r.mode == m && r.engine != "reference") sel.push_back(&r);

@@ -24,6 +24,7 @@
 #include <span>
 #include <vector>
 
+#include "tightbvh/closed.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/pose.hpp"
 #include "tightbvh/query_cache.hpp"
@@ -50,7 +51,24 @@ struct QueryOptions {
   // (tri_tri_distance, tri_distance.hpp) instead of the touching ones; boxes are tested inflated
   // by it. 0 (the default) is plain touching, through the same code as before margins existed.
   double margin = 0.0;
+  // Solids: the meshes are the closed surfaces of solids (closed.hpp), and a hit is also
+  // reported when no triangle pair is reported but a piece of one surface lies inside the other
+  // solid (QueryResult::inside; decided exactly by ray parity, inside.hpp). Both meshes must be
+  // closed, else InputError naming the mesh and why. closed_a / closed_b: check_closed(ma) and
+  // check_closed(mb), computed once per mesh; when null, each query computes them (O(n log n)
+  // per query: loops should pass them; collide_batch computes them once). false: no change.
+  bool solid = false;
+  const Closedness* closed_a = nullptr;
+  const Closedness* closed_b = nullptr;
 };
+
+// Why a solid query (QueryOptions::solid) hit without a reported triangle pair.
+enum class Inside : std::uint8_t {
+  none,    // no containment (touching or within-margin pairs, no hit, or solid not asked)
+  b_in_a,  // a piece of B's surface lies inside A's solid
+  a_in_b,  // a piece of A's surface lies inside B's solid
+};
+[[nodiscard]] const char* to_string(Inside inside);  // "none", "b_in_a", "a_in_b"
 
 // Relative margin of the box tests for rounding in the transform (times the sum of the two root
 // boxes' scales); the queries add kCompactBoxSlack for the float boxes.
@@ -76,6 +94,9 @@ struct QueryResult {
   // all_pairs: every touching pair, sorted by (a, b), unique. first_hit: the pair found, if any.
   std::vector<TrianglePair> pairs;
   QueryStats stats;
+  // solid only: set when the hit is a containment (then `pairs` is empty). Containment is
+  // tested only when no pair was reported.
+  Inside inside = Inside::none;
 };
 
 // pa^-1 * pb: maps B's mesh frame to A's mesh frame.
@@ -83,7 +104,7 @@ struct QueryResult {
 
 // Tree `a` must have been built over mesh `ma` (and `b` over `mb`); boxes in the mesh frames.
 // A tree whose triangle count differs from its mesh's throws InputError, as does a negative, NaN
-// or infinite margin; an empty tree never hits.
+// or infinite margin, or solid with an open mesh; an empty tree never hits.
 [[nodiscard]] QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa,  //
                                   const Tree& b, const Mesh& mb, const Pose& pb,  //
                                   const QueryOptions& options = {});
@@ -111,6 +132,7 @@ struct QueryResult {
 
 // Reference: every triangle pair, same predicate (margin included) and same transform as collide(). In
 // first_hit mode it stops at the first touching pair (in index order). stats.box_tests == 0.
+// solid: containment by rays against every triangle (classify_point_brute_force).
 [[nodiscard]] QueryResult collide_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb,
                                               const QueryOptions& options = {});
 

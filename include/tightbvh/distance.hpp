@@ -36,6 +36,12 @@ struct DistanceOptions {
   // early and says so (DistanceResult::beyond_upper_bound).
   double upper_bound = std::numeric_limits<double>::infinity();
   DescendRule descend = DescendRule::larger_volume;
+  // Solids (as QueryOptions::solid): when the surfaces are apart but a piece of one lies inside
+  // the other solid, the distance is 0 (DistanceResult::inside says which). Both meshes must be
+  // closed (InputError otherwise); closed_a / closed_b as in QueryOptions.
+  bool solid = false;
+  const Closedness* closed_a = nullptr;
+  const Closedness* closed_b = nullptr;
 };
 
 struct DistanceStats {
@@ -57,6 +63,10 @@ struct DistanceResult {
   Vec3 point_a_local = Vec3::Zero();  // the same point in A's mesh frame
   Vec3 point_b_local = Vec3::Zero();  // the same point in B's mesh frame
   DistanceStats stats;
+  // solid only: the distance is 0 because a piece of one surface lies inside the other solid.
+  // Then `pair` is not set, and point_a == point_b is that piece's vertex (a point of both
+  // solids; *_local in each mesh's frame).
+  Inside inside = Inside::none;
 };
 
 // Tree `a` must have been built over mesh `ma` (and `b` over `mb`), as for collide(). Throws
@@ -77,7 +87,9 @@ struct DistanceResult {
                                                          const DistanceOptions& options = {}, unsigned threads = 0);
 
 // Reference: every triangle pair, the same triangle distance and the same transform as
-// distance(); the first pair (in index order) at the minimum distance. Exact (no options).
-[[nodiscard]] DistanceResult distance_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb);
+// distance(); the first pair (in index order) at the minimum distance. Exact: of the options only
+// solid (and closed_a / closed_b) is used (containment by rays against every triangle).
+[[nodiscard]] DistanceResult distance_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb,
+                                                  const DistanceOptions& options = {});
 
 }  // namespace tightbvh

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -12,6 +13,7 @@
 #include "query_cache.hpp"
 #include "query_common.hpp"
 #include "query_workspace.hpp"
+#include "solid.hpp"
 #include "tightbvh/obb_overlap.hpp"
 #include "tightbvh/tri_tri.hpp"
 #include "traverse.hpp"
@@ -113,6 +115,8 @@ QueryResult collide_with(const Tree& a, const Mesh& ma, const Pose& pa, const Tr
   query_detail::check_tree_fits_mesh("collide", a, ma, "A");
   query_detail::check_tree_fits_mesh("collide", b, mb, "B");
   check_margin(options.margin);
+  std::optional<query_detail::SolidMeshes> solid;  // checked before the descent: open meshes always throw
+  if (options.solid) solid.emplace("collide", ma, options.closed_a, mb, options.closed_b);
   start();
   const Pose rel = relative_pose(pa, pb);
   const bool first = options.mode == QueryMode::first_hit;
@@ -128,6 +132,10 @@ QueryResult collide_with(const Tree& a, const Mesh& ma, const Pose& pa, const Tr
       collide_trees<false, true>(a, ma, b, mb, rel, options, ws, result, walk);
   }
   if (!first) finish(result);
+  if (solid && !result.hit) {  // no pair: is one solid inside the other?
+    result.inside = solid->overlap(a, ma, b, mb, rel).inside;
+    result.hit = result.inside != Inside::none;
+  }
   return result;
 }
 
@@ -167,6 +175,14 @@ QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b
 std::vector<QueryResult> collide_batch(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb,
                                        std::span<const Pose> poses_b, const QueryOptions& options, unsigned threads) {
   std::vector<QueryResult> results(poses_b.size());
+  // Solid: the closedness of both meshes once for all poses (and an open mesh throws here).
+  std::optional<query_detail::SolidMeshes> solid;
+  QueryOptions per_pose = options;
+  if (options.solid && !poses_b.empty()) {
+    solid.emplace("collide", ma, options.closed_a, mb, options.closed_b);
+    per_pose.closed_a = &solid->a();
+    per_pose.closed_b = &solid->b();
+  }
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
   threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(poses_b.size(), 1)));
   // The builder's pool: dynamic scheduling over pose indices, one workspace per worker, each
@@ -174,7 +190,7 @@ std::vector<QueryResult> collide_batch(const Tree& a, const Mesh& ma, const Pose
   // interleaving), and the error of the lowest failing pose rethrown.
   detail::WorkerPool<QueryWorkspace> pool(threads);
   pool.run(poses_b.size(), [&](std::size_t i, QueryWorkspace& workspace) {
-    results[i] = collide(a, ma, pa, b, mb, poses_b[i], options, workspace);
+    results[i] = collide(a, ma, pa, b, mb, poses_b[i], per_pose, workspace);
   });
   return results;
 }
@@ -182,6 +198,8 @@ std::vector<QueryResult> collide_batch(const Tree& a, const Mesh& ma, const Pose
 QueryResult collide_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb,
                                 const QueryOptions& options) {
   check_margin(options.margin);
+  std::optional<query_detail::SolidMeshes> solid;
+  if (options.solid) solid.emplace("collide_brute_force", ma, options.closed_a, mb, options.closed_b);
   QueryResult result;
   const Pose rel = relative_pose(pa, pb);
   std::vector<Vec3> mapped(mb.vertices.size());
@@ -200,6 +218,10 @@ QueryResult collide_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, 
         if (options.mode == QueryMode::first_hit) return result;
       }
     }
+  }
+  if (solid && !result.hit) {
+    result.inside = solid->overlap_brute_force(ma, mb, rel).inside;
+    result.hit = result.inside != Inside::none;
   }
   return result;  // already sorted and unique
 }

@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <thread>
 
 #include "../tree/parallel.hpp"
 #include "query_common.hpp"
 #include "query_workspace.hpp"
+#include "solid.hpp"
 #include "tightbvh/obb_distance.hpp"
 #include "tightbvh/tri_distance.hpp"
 #include "traverse.hpp"
@@ -164,6 +166,20 @@ DistanceResult make_result(const Best& best, const Pose& pa, const Pose& rel, do
   return result;
 }
 
+// Solid and the surfaces apart (or only known to be at least the upper bound apart): a piece
+// inside the other solid makes the distance 0, with that piece's vertex as both points.
+void apply_solid(const query_detail::SolidHit& hit, const Pose& pa, DistanceResult& result) {
+  if (hit.inside == Inside::none) return;
+  const DistanceStats stats = result.stats;
+  result = {};
+  result.distance = 0.0;
+  result.inside = hit.inside;
+  result.point_a = result.point_b = pa.apply(hit.point_a_frame);
+  result.point_a_local = hit.point_a_frame;
+  result.point_b_local = hit.point_b_frame;
+  result.stats = stats;
+}
+
 }  // namespace
 
 DistanceResult distance(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,
@@ -176,11 +192,14 @@ DistanceResult distance(const Tree& a, const Mesh& ma, const Pose& pa, const Tre
   }
   query_detail::check_tree_fits_mesh("distance", a, ma, "A");
   query_detail::check_tree_fits_mesh("distance", b, mb, "B");
+  std::optional<query_detail::SolidMeshes> solid;  // checked before the descent: open meshes always throw
+  if (options.solid) solid.emplace("distance", ma, options.closed_a, mb, options.closed_b);
   const Pose rel = relative_pose(pa, pb);
   DistanceSearch search(a, ma, b, mb, rel, options, workspace.scratch());
   search.run();
   DistanceResult result = make_result(search.best(), pa, rel, options.upper_bound);
   result.stats = search.stats();
+  if (solid && result.distance > 0.0) apply_solid(solid->overlap(a, ma, b, mb, rel), pa, result);
   return result;
 }
 
@@ -194,17 +213,27 @@ std::vector<DistanceResult> distance_batch(const Tree& a, const Mesh& ma, const 
                                            std::span<const Pose> poses_b, const DistanceOptions& options,
                                            unsigned threads) {
   std::vector<DistanceResult> results(poses_b.size());
+  std::optional<query_detail::SolidMeshes> solid;  // as collide_batch: closedness once for all poses
+  DistanceOptions per_pose = options;
+  if (options.solid && !poses_b.empty()) {
+    solid.emplace("distance", ma, options.closed_a, mb, options.closed_b);
+    per_pose.closed_a = &solid->a();
+    per_pose.closed_b = &solid->b();
+  }
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
   threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(poses_b.size(), 1)));
   // As collide_batch: one workspace per worker, each result in its own slot.
   detail::WorkerPool<QueryWorkspace> pool(threads);
   pool.run(poses_b.size(), [&](std::size_t i, QueryWorkspace& workspace) {
-    results[i] = distance(a, ma, pa, b, mb, poses_b[i], options, workspace);
+    results[i] = distance(a, ma, pa, b, mb, poses_b[i], per_pose, workspace);
   });
   return results;
 }
 
-DistanceResult distance_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb) {
+DistanceResult distance_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb,
+                                    const DistanceOptions& options) {
+  std::optional<query_detail::SolidMeshes> solid;
+  if (options.solid) solid.emplace("distance_brute_force", ma, options.closed_a, mb, options.closed_b);
   const Pose rel = relative_pose(pa, pb);
   std::vector<Vec3> mapped(mb.vertices.size());
   for (std::size_t i = 0; i < mb.vertices.size(); ++i) mapped[i] = map_point(rel, mb.vertices[i]);
@@ -224,6 +253,7 @@ DistanceResult distance_brute_force(const Mesh& ma, const Pose& pa, const Mesh& 
   }
   DistanceResult result = make_result(best, pa, rel, std::numeric_limits<double>::infinity());
   result.stats.triangle_pairs = pairs;
+  if (solid && result.distance > 0.0) apply_solid(solid->overlap_brute_force(ma, mb, rel), pa, result);
   return result;
 }
 

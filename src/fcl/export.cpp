@@ -279,20 +279,38 @@ std::shared_ptr<fcl::BVHModel<fcl::OBB<double>>> to_fcl(const Tree& tree, const 
   return export_model(mesh, plan, bvs);
 }
 
-std::shared_ptr<fcl::BVHModel<fcl::OBBRSS<double>>> to_fcl_obbrss(const Tree& tree, const Mesh& mesh,
-                                                                  const FclExportOptions& options) {
-  const Plan plan = Planner(tree, mesh, options.fit).run();
-  std::vector<fcl::OBBRSS<double>> bvs;
-  bvs.reserve(plan.nodes.size());
+namespace {
+
+// Every plan node's RSS, fitted to its box and its triangles' corners.
+std::vector<fcl::RSS<double>> plan_rss(const Plan& plan, const Mesh& mesh) {
+  std::vector<fcl::RSS<double>> out;
+  out.reserve(plan.nodes.size());
   std::vector<Vec3> corners;
   for (const PlanNode& n : plan.nodes) {
     triangle_corners(mesh, std::span(plan.order).subspan(n.first, n.count), corners);
-    fcl::OBBRSS<double> bv;
-    bv.obb = to_fcl_obb(n.box);
-    bv.rss = fit_rss(n.box, corners);
-    bvs.push_back(bv);
+    out.push_back(fit_rss(n.box, corners));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::shared_ptr<fcl::BVHModel<fcl::OBBRSS<double>>> to_fcl_obbrss(const Tree& tree, const Mesh& mesh,
+                                                                  const FclExportOptions& options) {
+  const Plan plan = Planner(tree, mesh, options.fit).run();
+  const std::vector<fcl::RSS<double>> rss = plan_rss(plan, mesh);
+  std::vector<fcl::OBBRSS<double>> bvs(plan.nodes.size());
+  for (std::size_t i = 0; i < bvs.size(); ++i) {
+    bvs[i].obb = to_fcl_obb(plan.nodes[i].box);
+    bvs[i].rss = rss[i];
   }
   return export_model(mesh, plan, bvs);
+}
+
+std::shared_ptr<fcl::BVHModel<fcl::RSS<double>>> to_fcl_rss(const Tree& tree, const Mesh& mesh,
+                                                            const FclExportOptions& options) {
+  const Plan plan = Planner(tree, mesh, options.fit).run();
+  return export_model(mesh, plan, plan_rss(plan, mesh));
 }
 
 }  // namespace tightbvh

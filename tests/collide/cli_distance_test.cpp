@@ -3,8 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <unistd.h>
 
 #include "../cli_runner.hpp"
 
@@ -68,6 +71,56 @@ TEST(CliDistance, BadInputIsOneLineAndNonZeroExit) {
     EXPECT_NE(r.status, 0) << args;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
   }
+}
+
+// An OFF cube [-h, h]^3 (outward), without its last triangle when `open`, in a temporary file.
+std::string cube_file(double h, bool open) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("tightbvh_cli_cube_" + std::to_string(::getpid()) + (open ? "_open" : "") + ".off");
+  std::ofstream out(path);
+  out << "OFF\n8 " << (open ? 11 : 12) << " 0\n";
+  for (int i = 0; i < 8; ++i) out << ((i & 1) ? h : -h) << ' ' << ((i & 2) ? h : -h) << ' ' << ((i & 4) ? h : -h) << '\n';
+  const char* faces[] = {"0 2 1", "1 2 3", "4 5 6", "5 7 6", "0 1 4", "1 5 4",
+                         "2 6 3", "3 6 7", "0 4 2", "2 4 6", "1 3 5", "3 7 5"};
+  for (int f = 0; f < (open ? 11 : 12); ++f) out << "3 " << faces[f] << '\n';
+  return path.string();
+}
+
+TEST(CliSolid, CollideAndDistanceWithOneMeshInsideTheOther) {
+  // knot1 (in a unit box) inside a cube of side 4: no surfaces touch.
+  const std::string knot = std::string(TIGHTBVH_SOURCE_DIR) + "/meshes/knot1.off", big = cube_file(2.0, false);
+  const CliRun plain = test::run_cli("collide " + knot + " " + big + " --fitter aabb --json");
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  EXPECT_FALSE(nlohmann::json::parse(plain.out)["hit"].get<bool>());
+  const CliRun solid = test::run_cli("collide " + knot + " " + big + " --fitter aabb --json --solid");
+  ASSERT_EQ(solid.status, 0) << solid.err;
+  const auto j = nlohmann::json::parse(solid.out);
+  EXPECT_TRUE(j["hit"].get<bool>());
+  EXPECT_EQ(j["inside"].get<std::string>(), "a_in_b");
+  EXPECT_EQ(j["pair_count"].get<int>(), 0);
+  const CliRun text = test::run_cli("collide " + big + " " + knot + " --fitter aabb --solid");
+  ASSERT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find("hit: yes\ninside: B is inside A"), std::string::npos) << text.out;
+
+  const CliRun d = test::run_cli("distance " + knot + " " + big + " --fitter aabb --solid --json");
+  ASSERT_EQ(d.status, 0) << d.err;
+  const auto dj = nlohmann::json::parse(d.out);
+  EXPECT_EQ(dj["distance"].get<double>(), 0.0);
+  EXPECT_EQ(dj["inside"].get<std::string>(), "a_in_b");
+  const CliRun far = test::run_cli("distance " + knot + " " + big + " --fitter aabb --json");
+  ASSERT_EQ(far.status, 0) << far.err;
+  EXPECT_GT(nlohmann::json::parse(far.out)["distance"].get<double>(), 0.5);
+
+  // An open mesh: one line naming the mesh and why, exit code 1.
+  const std::string open = cube_file(2.0, true);
+  for (const std::string command : {"collide", "distance"}) {
+    const CliRun r = test::run_cli(command + " " + knot + " " + open + " --fitter aabb --solid");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("mesh B is not closed: 3 boundary edges"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+  std::filesystem::remove(big);
+  std::filesystem::remove(open);
 }
 
 }  // namespace

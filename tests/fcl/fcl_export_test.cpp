@@ -13,6 +13,7 @@
 
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
+#include "tightbvh/distance.hpp"
 #include "tightbvh/fcl/export.hpp"
 
 namespace tightbvh {
@@ -191,12 +192,14 @@ TEST(FclExport, ShapeAndContainmentEveryFitterAndLeafSize) {
         const Tree tree = build_tree(mesh, method, leaf_size);
         const auto obb = to_fcl(tree, mesh, export_options(method));
         const auto obbrss = to_fcl_obbrss(tree, mesh, export_options(method));
+        const auto rss = to_fcl_rss(tree, mesh, export_options(method));
         expect_fcl_shape(*obb, mesh.triangles.size());
         expect_fcl_shape(*obbrss, mesh.triangles.size());
+        expect_fcl_shape(*rss, mesh.triangles.size());
         // Our root box is FCL's root box.
         const fcl::OBB<double> root = to_fcl_obb(tree.nodes[0].box.obb());
         EXPECT_TRUE(obb->getBV(0).bv.To.isApprox(root.To) && obb->getBV(0).bv.extent.isApprox(root.extent));
-        int bad_obb = 0, bad_rss = 0, bad_obbrss = 0;
+        int bad_obb = 0, bad_rss = 0, bad_obbrss = 0, bad_rss_model = 0;
         std::vector<Vec3> corners;
         for (int i = 0; i < obb->getNumBVs(); ++i) {
           corners.clear();
@@ -210,10 +213,14 @@ TEST(FclExport, ShapeAndContainmentEveryFitterAndLeafSize) {
             bad_obbrss += obb_contains(bv.obb, p) ? 0 : 1;
             bad_rss += rss_contains(bv.rss, p, tol) ? 0 : 1;
           }
+          corners.clear();
+          subtree_corners(*rss, i, corners);
+          for (const Vec3& p : corners) bad_rss_model += rss_contains(rss->getBV(i).bv, p, tol) ? 0 : 1;
         }
         EXPECT_EQ(bad_obb, 0);
         EXPECT_EQ(bad_obbrss, 0);
         EXPECT_EQ(bad_rss, 0);
+        EXPECT_EQ(bad_rss_model, 0);
       }
     }
   }
@@ -324,6 +331,37 @@ TEST(FclExport, DistanceOnExportedObbRssEqualsFclOwn) {
     fcl::distance(own_a.get(), fcl::Transform3<double>::Identity(), own_b.get(), to_fcl(p), request, own);
     fcl::distance(ea.get(), fcl::Transform3<double>::Identity(), eb.get(), to_fcl(p), request, exported);
     EXPECT_NEAR(exported.min_distance, own.min_distance, 1e-9 * bounds_of(a.vertices).diagonal());
+  }
+}
+
+// Issue 15, item 6: FCL's own fcl::distance on our exported RSS and OBBRSS trees equals our
+// distance() (within 1e-9 relative, 1e-12 of the scale absolute), from touching to separated.
+TEST(FclExport, FclDistanceOnExportedTreesEqualsOurs) {
+  const Mesh& a = shipped("elephant.off");
+  const Mesh& b = shipped("knot1.off");
+  const double scale = std::max(bounds_of(a.vertices).diagonal(), bounds_of(b.vertices).diagonal());
+  for (const FitMethod method : {FitMethod::pca, FitMethod::approx}) {
+    SCOPED_TRACE(std::string("fitter ") + std::string(to_string(method)));
+    const Tree ta = build_tree(a, method, 1), tb = build_tree(b, method, 1);
+    const auto rss_a = to_fcl_rss(ta, a, export_options(method)), rss_b = to_fcl_rss(tb, b, export_options(method));
+    const auto obbrss_a = to_fcl_obbrss(ta, a, export_options(method));
+    const auto obbrss_b = to_fcl_obbrss(tb, b, export_options(method));
+    QueryWorkspace workspace;
+    int separated = 0;
+    for (const Pose& p : random_poses(a, b, 10, 3.0, 21)) {
+      const double ours = distance(ta, a, Pose::identity(), tb, b, p, {}, workspace).distance;
+      const auto fcl_distance = [&](const auto& ma, const auto& mb) {
+        fcl::DistanceRequest<double> request;
+        fcl::DistanceResult<double> result;
+        fcl::distance(ma.get(), fcl::Transform3<double>::Identity(), mb.get(), to_fcl(p), request, result);
+        return std::max(0.0, result.min_distance);  // FCL reports touching meshes as <= 0
+      };
+      EXPECT_NEAR(fcl_distance(rss_a, rss_b), ours, 1e-9 * ours + 1e-12 * scale);
+      EXPECT_NEAR(fcl_distance(obbrss_a, obbrss_b), ours, 1e-9 * ours + 1e-12 * scale);
+      separated += ours > 0.0;
+    }
+    EXPECT_GE(separated, 3);
+    EXPECT_LE(separated, 9);
   }
 }
 

@@ -40,6 +40,9 @@ struct FclExportOptions {
                                                                        const FclExportOptions& options = {});
 [[nodiscard]] std::shared_ptr<fcl::BVHModel<fcl::OBBRSS<double>>> to_fcl_obbrss(
     const Tree& tree, const Mesh& mesh, const FclExportOptions& options = {});
+// PQP's volume alone, for FCL's distance queries: each node's RSS fitted to our box (fit_rss).
+[[nodiscard]] std::shared_ptr<fcl::BVHModel<fcl::RSS<double>>> to_fcl_rss(const Tree& tree, const Mesh& mesh,
+                                                                          const FclExportOptions& options = {});
 
 // Our box as FCL's: the same box, axes reordered longest first (FCL's convention), right-handed.
 [[nodiscard]] fcl::OBB<double> to_fcl_obb(const Obb& box);

@@ -1,0 +1,290 @@
+// Point in solid by exact ray parity, and the solid part of collide() and distance(). See
+// include/tightbvh/inside.hpp and src/collide/solid.hpp.
+#include "tightbvh/inside.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "../geometry/predicates.hpp"
+#include "query_common.hpp"
+#include "solid.hpp"
+
+namespace tightbvh {
+namespace {
+
+using detail::orient2d;
+using detail::orient3d;
+
+// A node's float box in double (exact conversion). Its axes are orthonormal only to ~2e-7, but
+// the box is the slab box { x : |a_i . (x - c)| <= e_i } of exactly these axes (compact_box.hpp),
+// which is what the slab test below evaluates: only the transforms' rounding needs a margin.
+[[nodiscard]] Obb box_of(const Node& node) { return node.box.obb(); }
+
+// p on the closed segment uv (exact).
+[[nodiscard]] bool on_segment(const Vec3& u, const Vec3& v, const Vec3& p) {
+  if (!detail::collinear(u, v, p)) return false;
+  for (int k = 0; k < 3; ++k)
+    if (p[k] < std::min(u[k], v[k]) || p[k] > std::max(u[k], v[k])) return false;
+  return true;
+}
+
+// p, which lies in the plane of a, b, c (orient3d == 0), in the closed triangle (exact): in a
+// coordinate projection where the triangle is not flat (the projection is then one-to-one on
+// the plane), or on one of its edges when a, b, c are collinear.
+[[nodiscard]] bool in_closed_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+  for (const int k : {2, 0, 1}) {
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    const int o = orient2d(a[i], a[j], b[i], b[j], c[i], c[j]);
+    if (o == 0) continue;
+    return orient2d(a[i], a[j], b[i], b[j], p[i], p[j]) != -o && orient2d(b[i], b[j], c[i], c[j], p[i], p[j]) != -o &&
+           orient2d(c[i], c[j], a[i], a[j], p[i], p[j]) != -o;
+  }
+  return on_segment(a, b, p) || on_segment(b, c, p) || on_segment(c, a, p);
+}
+
+enum class Meet : std::uint8_t { miss, cross, degenerate, on_surface };
+
+// How the segment pq meets the closed triangle abc, exactly. `cross`: through the interior,
+// transversally (p and q strictly on opposite sides of the plane, the line strictly inside the
+// three edges: orient3d(p, q, edge) of one strict sign, Pluecker's side test). `miss`: the
+// segment stays strictly on one side of the plane, or the line passes strictly outside an edge
+// (mixed strict signs; this covers lines parallel to the plane). `on_surface`: p is on the
+// triangle. Anything else (the line through an edge or a vertex, in the plane, an endpoint on
+// the plane) is `degenerate`: the caller re-shoots.
+[[nodiscard]] Meet meet(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, const Vec3& q) {
+  const detail::OrientPlane plane(a, b, c);
+  const int sp = plane.sign(p);
+  if (sp == 0 && in_closed_triangle(a, b, c, p)) return Meet::on_surface;
+  const int sq = plane.sign(q);
+  if (sp * sq > 0) return Meet::miss;
+  const int e0 = orient3d(p, q, a, b), e1 = orient3d(p, q, b, c), e2 = orient3d(p, q, c, a);
+  if ((e0 > 0 || e1 > 0 || e2 > 0) && (e0 < 0 || e1 < 0 || e2 < 0)) return Meet::miss;
+  if (sp * sq < 0 && e0 != 0 && e1 != 0 && e2 != 0) return Meet::cross;
+  return Meet::degenerate;
+}
+
+// May the segment pq (frame of the tree) meet the box? A slab test on the box inflated by `margin`,
+// which absorbs the rounding of the transforms, so a triangle the segment meets is never culled.
+[[nodiscard]] bool segment_meets_box(const Obb& box, const Vec3& p, const Vec3& q, double margin) {
+  const Vec3 lp = box.to_local(p), lq = box.to_local(q);
+  double t0 = 0.0, t1 = 1.0;
+  for (int k = 0; k < 3; ++k) {
+    const double h = box.half_extents[k] + margin, a = lp[k], b = lq[k];
+    if ((a < -h && b < -h) || (a > h && b > h)) return false;
+    const double d = b - a;
+    if (d == 0.0) continue;  // parallel to the slab and (by the line above) within it
+    double ta = (-h - a) / d, tb = (h - a) / d;
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+struct Ray {
+  bool odd = false;         // parity of the transversal crossings
+  bool degenerate = false;  // some triangle met degenerately: the parity means nothing
+  bool on_surface = false;  // p is on a triangle
+};
+
+// The rays' directions: +x first (cheap, and it makes degenerate cases easy to test), then a
+// fixed pseudo-random sequence (SplitMix64: the same on every platform).
+[[nodiscard]] Vec3 ray_direction(int attempt) {
+  if (attempt == 0) return Vec3::UnitX();
+  std::uint64_t state = 0x9e3779b97f4a7c15ull * static_cast<std::uint64_t>(attempt);
+  const auto next = [&state] {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return static_cast<double>(z >> 11) * 0x1.0p-53 * 2.0 - 1.0;  // [-1, 1)
+  };
+  for (;;) {
+    const Vec3 d(next(), next(), next());
+    const double n = d.norm();
+    if (n > 0.25 && n <= 1.0) return d / n;
+  }
+}
+
+// Gives up after this many degenerate rays (for a point off the surface the degenerate
+// directions have measure zero: never observed beyond the second).
+constexpr int kMaxRays = 64;
+
+// Where the rays start and how far they must reach: beyond `extent` around `center` (the
+// surface's bounding region, tree frame), measured from the point `pt` (tree frame).
+[[nodiscard]] double ray_length(const Vec3& pt, const Vec3& center, const Vec3& half_extents) {
+  const double length = 2.0 * ((pt - center).norm() + 2.0 * half_extents.norm());
+  return length > 0.0 ? length : 1.0;
+}
+
+// Classifies p (query frame) against a closed surface given as `triangles_met(p, q, pt, qt,
+// ray)`, which adds the meetings of the segment pq (query frame; pt, qt the same in the tree
+// frame) to `ray`. `to_tree` maps the query frame into the frame of the boxes (nullptr: the same).
+template <class Cast>
+[[nodiscard]] Containment classify_by_rays(const Vec3& p, const Pose* to_tree, const Vec3& center,
+                                           const Vec3& half_extents, Cast&& cast) {
+  const Vec3 pt = to_tree != nullptr ? to_tree->apply(p) : p;
+  const double length = ray_length(pt, center, half_extents);
+  for (int attempt = 0; attempt < kMaxRays; ++attempt) {
+    const Vec3 q = p + length * ray_direction(attempt);
+    if (q == p) continue;  // the length vanished against |p| (coordinates ~1e16 times the mesh)
+    const Vec3 qt = to_tree != nullptr ? to_tree->apply(q) : q;
+    Ray ray;
+    cast(p, q, pt, qt, ray);
+    if (ray.on_surface) return Containment::on_surface;
+    if (!ray.degenerate) return ray.odd ? Containment::inside : Containment::outside;
+  }
+  throw std::runtime_error("classify_point: every ray met the surface degenerately");
+}
+
+// Adds the meeting of pq with one triangle to `ray`; false once p is found on the surface.
+inline bool add_meeting(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, const Vec3& q, Ray& ray) {
+  switch (meet(a, b, c, p, q)) {
+    case Meet::cross: ray.odd = !ray.odd; break;
+    case Meet::degenerate: ray.degenerate = true; break;  // keep walking: p may be on the surface
+    case Meet::on_surface: ray.on_surface = true; return false;
+    case Meet::miss: break;
+  }
+  return true;
+}
+
+// p (query frame) against the tree's mesh, whose corners in the query frame are corner(v).
+template <class Corner>
+[[nodiscard]] Containment classify_with_tree(const Tree& tree, const Mesh& mesh, const Corner& corner,
+                                             const Pose* to_tree, const Vec3& p, std::vector<std::uint32_t>& stack) {
+  if (tree.nodes.empty()) return Containment::outside;
+  const Obb root = box_of(tree.nodes[0]);
+  const Vec3 pt = to_tree != nullptr ? to_tree->apply(p) : p;
+  // The slab test evaluates the float boxes' own definition (box_of): kBoxMargin for the transforms'
+  // rounding suffices; kCompactBoxSlack (for tests that treat the axes as orthonormal) is not needed.
+  const double margin = kBoxMargin * (query_detail::box_scale(tree.nodes[0].box) + pt.cwiseAbs().maxCoeff());
+  // Outside the root box is outside the surface's hull (the common case for separated meshes).
+  if (!root.contains(pt, margin)) return Containment::outside;
+  return classify_by_rays(p, to_tree, root.center, root.half_extents,
+                          [&](const Vec3& p, const Vec3& q, const Vec3& pt, const Vec3& qt, Ray& ray) {
+                            const double m = margin + kBoxMargin * qt.cwiseAbs().maxCoeff();
+                            stack.clear();
+                            stack.push_back(0);
+                            while (!stack.empty()) {
+                              const Node& node = tree.nodes[stack.back()];
+                              stack.pop_back();
+                              if (!segment_meets_box(box_of(node), pt, qt, m)) continue;
+                              if (!node.is_leaf()) {
+                                stack.push_back(node.first + 1);
+                                stack.push_back(node.first);
+                                continue;
+                              }
+                              for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+                                const Triangle& t = mesh.triangles[tree.triangle_order[k]];
+                                if (!add_meeting(corner(t[0]), corner(t[1]), corner(t[2]), p, q, ray)) return;
+                              }
+                            }
+                          });
+}
+
+// The same over every triangle; the rays reach beyond the corners' bounding box.
+template <class Corner>
+[[nodiscard]] Containment classify_brute(const Mesh& mesh, const Corner& corner, const Vec3& p) {
+  if (mesh.triangles.empty()) return Containment::outside;
+  Vec3 lo = corner(mesh.triangles[0][0]), hi = lo;
+  for (const Triangle& t : mesh.triangles)
+    for (const std::uint32_t v : t) {
+      const Vec3 c = corner(v);
+      lo = lo.cwiseMin(c);
+      hi = hi.cwiseMax(c);
+    }
+  return classify_by_rays(p, nullptr, 0.5 * (lo + hi), 0.5 * (hi - lo),
+                          [&](const Vec3& p, const Vec3& q, const Vec3&, const Vec3&, Ray& ray) {
+                            for (const Triangle& t : mesh.triangles)
+                              if (!add_meeting(corner(t[0]), corner(t[1]), corner(t[2]), p, q, ray)) return;
+                          });
+}
+
+}  // namespace
+
+const char* to_string(Inside inside) {
+  switch (inside) {
+    case Inside::none: return "none";
+    case Inside::b_in_a: return "b_in_a";
+    case Inside::a_in_b: return "a_in_b";
+  }
+  return "?";
+}
+
+const char* to_string(Containment c) {
+  switch (c) {
+    case Containment::outside: return "outside";
+    case Containment::inside: return "inside";
+    case Containment::on_surface: return "on_surface";
+  }
+  return "?";
+}
+
+Containment classify_point(const Tree& tree, const Mesh& mesh, const Closedness& closedness, const Vec3& p) {
+  require_closed(closedness, mesh, "classify_point", "");
+  if (tree.triangle_order.size() != mesh.triangles.size())
+    throw InputError("classify_point: the tree was built over " + std::to_string(tree.triangle_order.size()) +
+                     " triangles but the mesh has " + std::to_string(mesh.triangles.size()));
+  std::vector<std::uint32_t> stack;
+  return classify_with_tree(
+      tree, mesh, [&](std::uint32_t v) -> const Vec3& { return mesh.vertices[v]; }, nullptr, p, stack);
+}
+
+Containment classify_point_brute_force(const Mesh& mesh, const Closedness& closedness, const Vec3& p) {
+  require_closed(closedness, mesh, "classify_point_brute_force", "");
+  return classify_brute(mesh, [&](std::uint32_t v) -> const Vec3& { return mesh.vertices[v]; }, p);
+}
+
+namespace query_detail {
+
+SolidMeshes::SolidMeshes(const char* query, const Mesh& ma, const Closedness* given_a, const Mesh& mb,
+                         const Closedness* given_b) {
+  if (given_a == nullptr) given_a = &own_a_.emplace(check_closed(ma));
+  if (given_b == nullptr) given_b = &own_b_.emplace(check_closed(mb));
+  require_closed(*given_a, ma, query, "A");
+  require_closed(*given_b, mb, query, "B");
+  a_ = given_a;
+  b_ = given_b;
+}
+
+SolidHit SolidMeshes::overlap(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& mb, const Pose& rel) const {
+  std::vector<std::uint32_t> stack;
+  stack.reserve(64);
+  const auto corner_a = [&](std::uint32_t v) -> const Vec3& { return ma.vertices[v]; };
+  for (const std::uint32_t v : b_->pieces) {
+    const Vec3 p = map_point(rel, mb.vertices[v]);
+    if (classify_with_tree(ta, ma, corner_a, nullptr, p, stack) != Containment::outside)
+      return {Inside::b_in_a, p, mb.vertices[v]};
+  }
+  // A's vertex against B's triangles mapped into A's frame (the triangles every other test of
+  // the query sees); B's boxes are tested in B's frame with the segment mapped back.
+  const Pose to_b = rel.inverse();
+  const auto corner_b = [&](std::uint32_t v) { return map_point(rel, mb.vertices[v]); };
+  for (const std::uint32_t v : a_->pieces) {
+    const Vec3& p = ma.vertices[v];
+    if (classify_with_tree(tb, mb, corner_b, &to_b, p, stack) != Containment::outside)
+      return {Inside::a_in_b, p, to_b.apply(p)};
+  }
+  return {};
+}
+
+SolidHit SolidMeshes::overlap_brute_force(const Mesh& ma, const Mesh& mb, const Pose& rel) const {
+  const auto corner_a = [&](std::uint32_t v) -> const Vec3& { return ma.vertices[v]; };
+  for (const std::uint32_t v : b_->pieces) {
+    const Vec3 p = map_point(rel, mb.vertices[v]);
+    if (classify_brute(ma, corner_a, p) != Containment::outside) return {Inside::b_in_a, p, mb.vertices[v]};
+  }
+  const auto corner_b = [&](std::uint32_t v) { return map_point(rel, mb.vertices[v]); };
+  for (const std::uint32_t v : a_->pieces) {
+    const Vec3& p = ma.vertices[v];
+    if (classify_brute(mb, corner_b, p) != Containment::outside) return {Inside::a_in_b, p, rel.inverse().apply(p)};
+  }
+  return {};
+}
+
+}  // namespace query_detail
+}  // namespace tightbvh

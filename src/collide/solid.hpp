@@ -1,0 +1,47 @@
+#pragma once
+// Internal: the solid part of collide() and distance() (QueryOptions::solid,
+// DistanceOptions::solid): after a descent that found no contact, is a piece of one mesh inside
+// the other's solid? Implemented in inside.cpp.
+#include <optional>
+
+#include "tightbvh/closed.hpp"
+#include "tightbvh/collide.hpp"
+#include "tightbvh/mesh.hpp"
+#include "tightbvh/pose.hpp"
+#include "tightbvh/tree.hpp"
+
+namespace tightbvh::query_detail {
+
+struct SolidHit {
+  Inside inside = Inside::none;
+  Vec3 point_a_frame = Vec3::Zero();  // the piece's vertex that lies in the other solid, A's frame
+  Vec3 point_b_frame = Vec3::Zero();  // the same point, B's frame
+};
+
+// The closedness of both meshes: the caller's (checked to belong to the meshes) or, when not
+// given, computed here (once per query: O(n log n); the batch functions compute it once for all
+// poses). Throws InputError "<query>: mesh A|B is not closed: ..." for an open mesh.
+class SolidMeshes {
+ public:
+  SolidMeshes(const char* query, const Mesh& ma, const Closedness* given_a, const Mesh& mb, const Closedness* given_b);
+  SolidMeshes(const SolidMeshes&) = delete;
+  SolidMeshes& operator=(const SolidMeshes&) = delete;
+
+  // With the trees: a piece of B inside A's solid (tested first), or a piece of A inside B's.
+  // Each test takes one vertex per piece; B's vertices are mapped into A's frame by map_point,
+  // as every triangle test of the queries, so all tests see the same triangles. Meant for poses
+  // where no triangles touch; a piece vertex on the other surface also counts as inside.
+  [[nodiscard]] SolidHit overlap(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& mb, const Pose& rel) const;
+  // The same without trees (every triangle): the brute-force references.
+  [[nodiscard]] SolidHit overlap_brute_force(const Mesh& ma, const Mesh& mb, const Pose& rel) const;
+
+  [[nodiscard]] const Closedness& a() const { return *a_; }
+  [[nodiscard]] const Closedness& b() const { return *b_; }
+
+ private:
+  std::optional<Closedness> own_a_, own_b_;
+  const Closedness* a_ = nullptr;
+  const Closedness* b_ = nullptr;
+};
+
+}  // namespace tightbvh::query_detail

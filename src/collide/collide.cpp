@@ -23,9 +23,6 @@ namespace {
 
 using query_detail::map_point;
 
-// Number of B triangles mapped into A's frame at once in a leaf-leaf test.
-constexpr std::uint32_t kLeafChunk = 32;
-
 // WithMargin: pairs within options.margin (boxes inflated by it); without: touching pairs, the
 // code of margin-free collide unchanged. walk(test, leaves) runs the descent: traverse_pairs from
 // the roots, or traverse_front from a QueryCache's front.
@@ -46,16 +43,12 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
     const auto [c, d] = in_box_frame(ba, mapped.axes, mapped.center);
     return obb_overlap(c, d, ba.half_extents_d(), bb.half_extents_d(), margin);
   };
-  std::array<std::array<Vec3, 3>, kLeafChunk> mapped;
+  MappedChunk mapped;
   const auto triangles_touch = [&](std::uint32_t ia_node, std::uint32_t ib_node) {
     const Node& na = ta.nodes[ia_node];
     const Node& nb = tb.nodes[ib_node];
     for (std::uint32_t cb = 0; cb < nb.count; cb += kLeafChunk) {
-      const std::uint32_t nbc = std::min(kLeafChunk, nb.count - cb);
-      for (std::uint32_t j = 0; j < nbc; ++j) {
-        const Triangle& tri = mb.triangles[tb.triangle_order[nb.first + cb + j]];
-        for (int k = 0; k < 3; ++k) mapped[j][k] = map_point(rel, mb.vertices[tri[k]]);
-      }
+      const std::uint32_t nbc = map_leaf_chunk(rel, mb, tb, nb, cb, mapped);
       for (std::uint32_t i = 0; i < na.count; ++i) {
         const std::uint32_t ia = ta.triangle_order[na.first + i];
         const Triangle& tri = ma.triangles[ia];

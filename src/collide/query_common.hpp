@@ -1,6 +1,8 @@
 #pragma once
 // Internal: what the tree-vs-tree queries (collide.cpp, distance.cpp) must compute identically.
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <string>
 
 #include "tightbvh/collide.hpp"
@@ -22,6 +24,23 @@ namespace tightbvh::query_detail {
   return {r(0, 0) * v.x() + r(0, 1) * v.y() + r(0, 2) * v.z() + t.x(),
           r(1, 0) * v.x() + r(1, 1) * v.y() + r(1, 2) * v.z() + t.y(),
           r(2, 0) * v.x() + r(2, 1) * v.y() + r(2, 2) * v.z() + t.z()};
+}
+
+// Leaves test B's triangles in chunks of this many, mapped into A's frame once per leaf pair and
+// chunk, against each of A's triangles: the order collide() and collide_trace() share.
+inline constexpr std::uint32_t kLeafChunk = 32;
+using MappedChunk = std::array<std::array<Vec3, 3>, kLeafChunk>;
+
+// B's triangles [first, first + min(kLeafChunk, nb.count - first)) of leaf `nb` mapped into A's
+// frame; returns how many.
+inline std::uint32_t map_leaf_chunk(const Pose& rel, const Mesh& mb, const Tree& tb, const Node& nb,
+                                    std::uint32_t first, MappedChunk& mapped) {
+  const std::uint32_t n = std::min(kLeafChunk, nb.count - first);
+  for (std::uint32_t j = 0; j < n; ++j) {
+    const Triangle& tri = mb.triangles[tb.triangle_order[nb.first + first + j]];
+    for (int k = 0; k < 3; ++k) mapped[j][k] = map_point(rel, mb.vertices[tri[k]]);
+  }
+  return n;
 }
 
 // The size that scales the box tests' allowance.

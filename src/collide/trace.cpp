@@ -21,10 +21,6 @@ namespace {
 
 using namespace query_detail;
 
-// collide.cpp's kLeafChunk: B's triangles are tested in chunks of this many per A triangle, which
-// fixes the order of the triangle tests and hence the first hit.
-constexpr std::uint32_t kLeafChunk = 32;
-
 // Depth of every node (root 0).
 std::vector<std::uint32_t> node_depths(const Tree& tree) {
   std::vector<std::uint32_t> depth(tree.nodes.size(), 0);
@@ -91,17 +87,13 @@ CollideTrace collide_trace(const Tree& ta, const Mesh& ma, const Pose& pa, const
     record(ia, ib, !overlap ? PairOutcome::culled : leaves ? PairOutcome::leaves : PairOutcome::descended);
     return overlap;
   };
-  std::array<std::array<Vec3, 3>, kLeafChunk> mapped;
+  MappedChunk mapped;
   const auto triangles_touch = [&](std::uint32_t ia_node, std::uint32_t ib_node) {
     const Node& na = ta.nodes[ia_node];
     const Node& nb = tb.nodes[ib_node];
     bool reported = false;
     for (std::uint32_t cb = 0; cb < nb.count; cb += kLeafChunk) {
-      const std::uint32_t nbc = std::min(kLeafChunk, nb.count - cb);
-      for (std::uint32_t j = 0; j < nbc; ++j) {
-        const Triangle& tri = mb.triangles[tb.triangle_order[nb.first + cb + j]];
-        for (int k = 0; k < 3; ++k) mapped[j][k] = map_point(rel, mb.vertices[tri[k]]);
-      }
+      const std::uint32_t nbc = map_leaf_chunk(rel, mb, tb, nb, cb, mapped);
       for (std::uint32_t i = 0; i < na.count; ++i) {
         const std::uint32_t ia = ta.triangle_order[na.first + i];
         const auto [p0, p1, p2] = ma.corners(ia);

@@ -207,6 +207,9 @@ struct EngineInfo {
   bool distance = false;   // answers minimum-distance queries
   bool margin = false;     // reports the pairs within a safety margin
   bool solid = false;      // first_hit on solids (one inside the other counts)
+  // Front tracking across poses (QueryCache, BVHFrontList): only worth running on coherent
+  // sequences, so `--engines all` includes it only with the trajectory scenario.
+  bool coherent = false;
 };
 
 // Engine registries, one per translation unit.

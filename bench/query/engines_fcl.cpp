@@ -81,7 +81,8 @@ std::vector<EngineInfo> fcl_engines() {
       {"fcl-obb-front", true, true, "FCL's BVHFrontList kept across poses (coherent sequences)",
        [](const Input& in) {
          return prepare([&] { return std::make_unique<FclFrontAdapter>(fcl_model<Obb>(in.a), fcl_model<Obb>(in.b)); });
-       }},
+       },
+       false, false, false, /*coherent=*/true},
       // PQP's volume, FCL's other distance BV; run in the distance mode only.
       {"fcl-rss", false, false, "distance mode only",
        [](const Input& in) {

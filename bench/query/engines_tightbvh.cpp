@@ -107,11 +107,13 @@ class TightbvhCachedAdapter {
 };
 
 EngineInfo cached(const std::string& name, Fitter fitter) {
-  return {name, true, true, "",
-          [fitter](const Input& in) {
-            return prepare([&] { return std::make_unique<TightbvhCachedAdapter>(in, fitter); });
-          },
-          true, true};
+  EngineInfo info{name, true, true, "",
+                  [fitter](const Input& in) {
+                    return prepare([&] { return std::make_unique<TightbvhCachedAdapter>(in, fitter); });
+                  },
+                  true, true};
+  info.coherent = true;
+  return info;
 }
 
 EngineInfo ours(const std::string& name, Fitter fitter) {

@@ -7,9 +7,8 @@
 #include <cmath>
 #include <optional>
 #include <string>
-#include <thread>
 
-#include "../tree/parallel.hpp"
+#include "batch.hpp"
 #include "query_cache.hpp"
 #include "query_common.hpp"
 #include "query_workspace.hpp"
@@ -167,25 +166,11 @@ QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b
 
 std::vector<QueryResult> collide_batch(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb,
                                        std::span<const Pose> poses_b, const QueryOptions& options, unsigned threads) {
-  std::vector<QueryResult> results(poses_b.size());
-  // Solid: the closedness of both meshes once for all poses (and an open mesh throws here).
-  std::optional<query_detail::SolidMeshes> solid;
-  QueryOptions per_pose = options;
-  if (options.solid && !poses_b.empty()) {
-    solid.emplace("collide", ma, options.closed_a, mb, options.closed_b);
-    per_pose.closed_a = &solid->a();
-    per_pose.closed_b = &solid->b();
-  }
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(poses_b.size(), 1)));
-  // The builder's pool: dynamic scheduling over pose indices, one workspace per worker, each
-  // result in its own slot (so the output does not depend on the thread count or the
-  // interleaving), and the error of the lowest failing pose rethrown.
-  detail::WorkerPool<QueryWorkspace> pool(threads);
-  pool.run(poses_b.size(), [&](std::size_t i, QueryWorkspace& workspace) {
-    results[i] = collide(a, ma, pa, b, mb, poses_b[i], per_pose, workspace);
-  });
-  return results;
+  return query_detail::run_batch<QueryResult>(
+      "collide", ma, mb, poses_b, options, threads,
+      [&](const Pose& pose, const QueryOptions& per_pose, QueryWorkspace& workspace) {
+        return collide(a, ma, pa, b, mb, pose, per_pose, workspace);
+      });
 }
 
 QueryResult collide_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb,

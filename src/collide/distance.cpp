@@ -8,9 +8,8 @@
 #include <cmath>
 #include <optional>
 #include <string>
-#include <thread>
 
-#include "../tree/parallel.hpp"
+#include "batch.hpp"
 #include "query_common.hpp"
 #include "query_workspace.hpp"
 #include "solid.hpp"
@@ -212,22 +211,11 @@ DistanceResult distance(const Tree& a, const Mesh& ma, const Pose& pa, const Tre
 std::vector<DistanceResult> distance_batch(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb,
                                            std::span<const Pose> poses_b, const DistanceOptions& options,
                                            unsigned threads) {
-  std::vector<DistanceResult> results(poses_b.size());
-  std::optional<query_detail::SolidMeshes> solid;  // as collide_batch: closedness once for all poses
-  DistanceOptions per_pose = options;
-  if (options.solid && !poses_b.empty()) {
-    solid.emplace("distance", ma, options.closed_a, mb, options.closed_b);
-    per_pose.closed_a = &solid->a();
-    per_pose.closed_b = &solid->b();
-  }
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(poses_b.size(), 1)));
-  // As collide_batch: one workspace per worker, each result in its own slot.
-  detail::WorkerPool<QueryWorkspace> pool(threads);
-  pool.run(poses_b.size(), [&](std::size_t i, QueryWorkspace& workspace) {
-    results[i] = distance(a, ma, pa, b, mb, poses_b[i], per_pose, workspace);
-  });
-  return results;
+  return query_detail::run_batch<DistanceResult>(
+      "distance", ma, mb, poses_b, options, threads,
+      [&](const Pose& pose, const DistanceOptions& per_pose, QueryWorkspace& workspace) {
+        return distance(a, ma, pa, b, mb, pose, per_pose, workspace);
+      });
 }
 
 DistanceResult distance_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb,

@@ -13,9 +13,11 @@
 // separating-axis test in double as if they were orthonormal; the error this makes in a projected
 // radius is at most about 8e-7 times the sum of the box's half extents (the slab box is the
 // parallelepiped spanned by the columns of A^-T, within 4e-7 of A). The queries add
-// kCompactBoxSlack times the meshes' scale to their box margin, which bounds that error with a
-// safety factor of more than 2 (a node's half extents sum to at most 3 sqrt(3) times the root's
-// largest half extent), so a float box test never culls a pair that the exact test keeps.
+// kCompactBoxSlack times the sum of the two root boxes' largest half extents to their box margin,
+// which bounds that error with a safety factor of more than 2 (a node's half extents sum to at
+// most 3 sqrt(3) times the root's largest half extent), so a float box test never culls a pair
+// that the exact test keeps. The distance queries also shrink each node bound by that relative
+// amount: it combines gaps along the axes as if they were orthonormal.
 #include <span>
 
 #include <Eigen/Core>

@@ -49,11 +49,15 @@ inline std::uint32_t map_leaf_chunk(const Pose& rel, const Mesh& mb, const Tree&
 }
 
 // What every box test of a query adds to the projected radii: kBoxMargin for the rounding in the
-// transform and kCompactBoxSlack for the float boxes' axes (compact_box.hpp), both relative to
-// the scale of the two roots and of the relative translation.
+// transform, relative to the coordinates (the two roots' scales and the relative translation),
+// and kCompactBoxSlack for the float boxes' skew axes, whose error grows with the boxes' extents
+// only (compact_box.hpp), relative to the two roots' largest half extents. So meshes far from
+// the origin are not tested with boxes grown by their distance from it.
 [[nodiscard]] inline double box_allowance(const Tree& ta, const Tree& tb, const Pose& rel) {
-  return (kBoxMargin + kCompactBoxSlack) *
-         (box_scale(ta.nodes[0].box) + box_scale(tb.nodes[0].box) + rel.translation.cwiseAbs().maxCoeff());
+  const CompactBox& a = ta.nodes[0].box;
+  const CompactBox& b = tb.nodes[0].box;
+  return kBoxMargin * (box_scale(a) + box_scale(b) + rel.translation.cwiseAbs().maxCoeff()) +
+         kCompactBoxSlack * (a.half_extents_d().maxCoeff() + b.half_extents_d().maxCoeff());
 }
 
 // B's mapped box in A's box frame, obb_overlap()'s frame: C = Aa^T (R Bb), d = Aa^T (R cb + t - ca).

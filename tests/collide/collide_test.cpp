@@ -108,6 +108,42 @@ TEST(Collide, MatchesBruteForceMediumShipped) {
   EXPECT_GT(expect_matches_brute_force(anchor, knot, 21), 0);
 }
 
+// The float boxes' allowance (query_common.hpp: box_allowance) grows with the boxes' extents, not
+// with their distance from the origin: the same unit-size pair stored 1000 away from its frame's
+// origin (where a float center still rounds by only ~3e-5) finds the same pairs with about the same
+// number of box tests. An allowance relative to the coordinates (1e-5 x 1000 = 0.01 per box, as
+// large as the leaves) lost most of the culling here.
+TEST(Collide, MeshesFarFromTheOriginKeepTheirCulling) {
+  const auto unit_size = [](Mesh mesh, const Vec3& offset) {
+    Vec3 lo = mesh.vertices[0], hi = lo;
+    for (const Vec3& v : mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    for (Vec3& v : mesh.vertices) v = (v - 0.5 * (lo + hi)) / (hi - lo).norm() + offset;
+    return mesh;
+  };
+  const Mesh knot = unit_size(subset(shipped("meshes/knot1.off"), 8), Vec3::Zero());
+  const Mesh elephant = unit_size(subset(shipped("meshes/elephant.off"), 6), Vec3::Zero());
+  const Vec3 offset_a(1000.0, -700.0, 300.0), offset_b(-400.0, 900.0, 1000.0);
+  const Mesh far_knot = unit_size(knot, offset_a);
+  const Mesh far_elephant = unit_size(elephant, offset_b);
+  const Tree ta = build(knot, {.threads = 1}), tb = build(elephant, {.threads = 1});
+  const Tree far_ta = build(far_knot, {.threads = 1}), far_tb = build(far_elephant, {.threads = 1});
+  std::uint64_t near_tests = 0, far_tests = 0;
+  int contacts = 0;
+  for (const auto& [pa, pb] : random_poses(knot, elephant, 31)) {
+    // The far meshes placed where the near ones are: the same world triangles.
+    const Pose far_pa = pa * Pose{Mat3::Identity(), -offset_a}, far_pb = pb * Pose{Mat3::Identity(), -offset_b};
+    const QueryResult near = collide(ta, knot, pa, tb, elephant, pb, {.mode = QueryMode::all_pairs});
+    const QueryResult far = collide(far_ta, far_knot, far_pa, far_tb, far_elephant, far_pb, {.mode = QueryMode::all_pairs});
+    EXPECT_EQ(far.pairs, collide_brute_force(far_knot, far_pa, far_elephant, far_pb, {.mode = QueryMode::all_pairs}).pairs);
+    near_tests += near.stats.box_tests;
+    far_tests += far.stats.box_tests;
+    contacts += near.hit;
+  }
+  EXPECT_GT(contacts, 0);
+  EXPECT_LT(static_cast<double>(far_tests), 1.2 * static_cast<double>(near_tests))
+      << "near " << near_tests << " box tests, far " << far_tests;
+}
+
 TEST(Collide, BatchIsIdenticalForAnyThreadCount) {
   const Mesh a = subset(shipped("meshes/knot1.off"), 4);
   const Mesh b = uv_sphere(10, 16, 0.3);

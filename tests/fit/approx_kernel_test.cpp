@@ -3,6 +3,7 @@
 // and the vertices overload of fit_triangles (same boxes from fewer points).
 #include <gtest/gtest.h>
 
+#include "node_sets.hpp"
 #include "test_util.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/fit.hpp"
@@ -12,33 +13,9 @@
 namespace tightbvh {
 namespace {
 
+using test::NodeSet;
+using test::node_sets;
 using test::valid_box_containing;
-
-struct NodeSet {
-  std::vector<Vec3> corners;
-  std::vector<Vec3> vertices;  // the distinct mesh vertices of the same triangles
-};
-
-// The nodes of a pca tree of a shipped mesh with at least `min_triangles` triangles.
-std::vector<NodeSet> node_sets(const std::string& relative, std::size_t min_triangles) {
-  const Mesh mesh = load_mesh(test::source_dir() / relative);
-  const Tree tree = build(mesh, {.fitter = FitMethod::pca, .threads = 1});
-  const std::vector<TriangleRange> ranges = triangle_ranges(tree);
-  std::vector<NodeSet> out;
-  for (const TriangleRange& r : ranges) {
-    if (r.size() < min_triangles) continue;
-    const auto triangles = std::span(tree.triangle_order).subspan(r.begin, r.size());
-    NodeSet set;
-    triangle_corners(mesh, triangles, set.corners);
-    std::vector<std::uint32_t> ids;
-    for (const std::uint32_t t : triangles) ids.insert(ids.end(), mesh.triangles[t].begin(), mesh.triangles[t].end());
-    std::sort(ids.begin(), ids.end());
-    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-    for (const std::uint32_t v : ids) set.vertices.push_back(mesh.vertices[v]);
-    out.push_back(std::move(set));
-  }
-  return out;
-}
 
 Obb fit(std::span<const Vec3> corners, FitMethod method) { return fit_triangles(corners, {.method = method}); }
 

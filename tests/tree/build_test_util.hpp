@@ -15,7 +15,7 @@ namespace tightbvh::test {
 
 inline constexpr FitMethod kAllMethods[] = {FitMethod::aabb,   FitMethod::pca,         FitMethod::pca_vertex,
                                             FitMethod::diameter, FitMethod::approx, FitMethod::approx_snap,
-                                            FitMethod::exact,  FitMethod::eberly2015, FitMethod::approx_kernel};
+                                            FitMethod::exact,  FitMethod::eberly2015, FitMethod::approx_kernel, FitMethod::normal_bopt};
 
 // The fitters land one by one (fit branch): a method is available when it fits a tetrahedron.
 inline bool available(FitMethod method) {
@@ -66,7 +66,7 @@ inline std::size_t triangle_budget(const Fitter& fitter) {
         return 400;  // diameter, approx: hull + grid search at every node
     }
   }
-  return 1500;  // auto: approx-kernel above 32 triangles, approx above 2048
+  return 1500;  // auto: approx-kernel above 64 triangles, approx above 2048
 }
 
 inline bool is_cheap(const Fitter& fitter) { return triangle_budget(fitter) > 1500; }

@@ -4,9 +4,10 @@
 // a split pushes), in SIMD lanes of doubles.
 //
 // Both are one template (box_separated) over the lane type: a plain double for one pair, two
-// doubles (SSE2, any x86-64) for two. Every lane performs, operation for operation, the
-// arithmetic of in_box_frame() written out + obb_overlap(): C = Aa^T M, d = Aa^T (cm - ca) summed
-// left to right, then the 15 axes with kSatEpsilon and `margin` in obb_overlap()'s order. Lanes
+// doubles (SSE2, any x86-64) for two. Every lane performs, operation for operation, the same
+// arithmetic: B's mapped box in A's box frame (what in_box_frame() computes with Eigen, here
+// written out: C = Aa^T M, d = Aa^T (cm - ca), each sum left to right), then obb_overlap()'s 15
+// axes with kSatEpsilon and `margin`, in its order. Lanes
 // are IEEE operations in the same order (no FMA: nothing here is compiled with -mfma, and SSE2
 // mul/add are not contracted), so each lane decides bit for bit as the scalar test does and the
 // descent, its first hit and its counts do not depend on which path ran; the exactness argument

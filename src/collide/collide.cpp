@@ -9,6 +9,7 @@
 #include <string>
 
 #include "batch.hpp"
+#include "box_test.hpp"
 #include "query_cache.hpp"
 #include "query_common.hpp"
 #include "query_workspace.hpp"
@@ -22,9 +23,20 @@ namespace {
 
 using query_detail::map_point;
 
+// The batched box tests of collide_trees for a walk that can use them (traverse_pairs_tested).
+template <class One, class ChildrenA, class ChildrenB>
+struct BatchedTests {
+  One& one;
+  ChildrenA& children_a;
+  ChildrenB& children_b;
+  bool can_stop;  // first_hit
+  std::uint64_t& box_tests;
+};
+
 // WithMargin: pairs within options.margin (boxes inflated by it); without: touching pairs, the
-// code of margin-free collide unchanged. walk(test, leaves) runs the descent: traverse_pairs from
-// the roots, or traverse_front from a QueryCache's front.
+// code of margin-free collide unchanged. walk(test, leaves, batched) runs the descent:
+// traverse_pairs_tested from the roots with the batched tests, or traverse_front from a
+// QueryCache's front with the one-pair test.
 template <bool FirstHit, bool WithMargin, class Walker>
 void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& mb, const Pose& rel,
                    const QueryOptions& options, QueryWorkspace::Scratch& ws, QueryResult& result, Walker&& walk) {
@@ -34,13 +46,25 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
   std::uint64_t box_tests = 0, triangle_tests = 0;
   BoxCache& cache = ws.mapped_b;
   cache.begin(tb.nodes.size());
+  // B's boxes are mapped into A's frame once per query and node (the cache); box_test.hpp.
+  const auto mapped_b = [&](std::uint32_t ib) -> const MappedBox& { return cache.mapped(ib, tb.nodes[ib].box, rel); };
   const auto boxes_overlap = [&](std::uint32_t ia, std::uint32_t ib) {
-    const CompactBox& ba = ta.nodes[ia].box;
-    const CompactBox& bb = tb.nodes[ib].box;
     ++box_tests;
-    const MappedBox& mapped = cache.mapped(ib, bb, rel);  // B's box in A's frame, once per query
-    const auto [c, d] = in_box_frame(ba, mapped.axes, mapped.center);
-    return obb_overlap(c, d, ba.half_extents_d(), bb.half_extents_d(), margin);
+    return box_overlap(ta.nodes[ia].box, mapped_b(ib), tb.nodes[ib].box.half_extents, margin);
+  };
+  // A split's two child pairs at once (traverse_pairs_tested counts them when it pops them).
+  const auto node_overlaps = [&](std::uint32_t ia, std::uint32_t ib) {
+    return box_overlap(ta.nodes[ia].box, mapped_b(ib), tb.nodes[ib].box.half_extents, margin);
+  };
+  const auto children_of_a = [&](std::uint32_t ia, std::uint32_t ib) {
+    const MappedBox& m = mapped_b(ib);
+    const Eigen::Vector3f& eb = tb.nodes[ib].box.half_extents;
+    return boxes_overlap2(ta.nodes[ia].box, m, eb, ta.nodes[ia + 1].box, m, eb, margin);
+  };
+  const auto children_of_b = [&](std::uint32_t ia, std::uint32_t ib) {
+    const CompactBox& a = ta.nodes[ia].box;
+    return boxes_overlap2(a, mapped_b(ib), tb.nodes[ib].box.half_extents, a, mapped_b(ib + 1),
+                          tb.nodes[ib + 1].box.half_extents, margin);
   };
   MappedChunk mapped;
   const auto triangles_touch = [&](std::uint32_t ia_node, std::uint32_t ib_node) {
@@ -71,7 +95,7 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
     }
     return Walk::go_on;
   };
-  walk(boxes_overlap, triangles_touch);
+  walk(boxes_overlap, triangles_touch, BatchedTests{node_overlaps, children_of_a, children_of_b, FirstHit, box_tests});
   result.stats.box_tests += box_tests;
   result.stats.triangle_tests += triangle_tests;
 }
@@ -98,7 +122,7 @@ QueryWorkspace& QueryWorkspace::operator=(QueryWorkspace&&) noexcept = default;
 namespace {
 
 // The checks and the dispatch on mode and margin shared by the collide overloads. `start` runs
-// once the inputs are checked (binding a cache); walk(test, leaves) as in collide_trees.
+// once the inputs are checked (binding a cache); walk(test, leaves, batched) as in collide_trees.
 template <class Start, class Walker>
 QueryResult collide_with(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,
                          const QueryOptions& options, QueryWorkspace::Scratch& ws, Start&& start, Walker&& walk) {
@@ -138,7 +162,11 @@ QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b
   QueryWorkspace::Scratch& ws = workspace.scratch();
   return collide_with(
       a, ma, pa, b, mb, pb, options, ws, [] {},
-      [&](auto& test, auto& leaves) { query_detail::traverse_pairs(a, b, options.descend, ws.stack, test, leaves); });
+      [&](auto&, auto& leaves, auto batched) {
+        query_detail::traverse_pairs_tested(a, b, options.descend, ws.tested_stack, batched.can_stop, batched.box_tests,
+                                            batched.one,
+                                            batched.children_a, batched.children_b, leaves);
+      });
 }
 
 QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,
@@ -147,7 +175,9 @@ QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b
   const bool first = options.mode == QueryMode::first_hit;
   return collide_with(
       a, ma, pa, b, mb, pb, options, st.scratch, [&] { st.bind(a, b); },
-      [&](auto& test, auto& leaves) { query_detail::traverse_front(a, b, options.descend, st, first, test, leaves); });
+      [&](auto& test, auto& leaves, auto) {
+        query_detail::traverse_front(a, b, options.descend, st, first, test, leaves);
+      });
 }
 
 QueryCache::QueryCache() : state_(std::make_unique<State>()) {}

@@ -57,6 +57,7 @@ struct BoundedPair {
 
 struct QueryWorkspace::Scratch {
   query_detail::PairStack stack;
+  query_detail::TestedPairStack tested_stack;
   query_detail::BoxCache mapped_b;
   std::vector<query_detail::BoundedPair> distance_stack;
 };

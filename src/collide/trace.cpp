@@ -1,6 +1,7 @@
 // collide_trace(): collide()'s descent, recorded (include/tightbvh/collide_trace.hpp). Kept apart
 // from collide.cpp so that the hot loop there stays as it is; the node test and the leaf test
-// below must stay the same computation as collide_trees() (same traverse_pairs, the same box
+// below must stay the same computation as collide_trees() (traverse_pairs visits the pairs of
+// collide()'s traverse_pairs_tested in the same order; the same box test of box_test.hpp and
 // helpers of query_common.hpp and query_workspace.hpp, same triangle order in the leaves), which
 // tests/collide/trace_test.cpp checks by comparing first hits and test counts with collide().
 #include "tightbvh/collide_trace.hpp"
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <string>
 
+#include "box_test.hpp"
 #include "query_common.hpp"
 #include "query_workspace.hpp"
 #include "tightbvh/obb_overlap.hpp"
@@ -81,8 +83,9 @@ CollideTrace collide_trace(const Tree& ta, const Mesh& ma, const Pose& pa, const
     const CompactBox& bb = tb.nodes[ib].box;
     ++result.stats.box_tests;
     const MappedBox& mapped_box = cache.mapped(ib, bb, rel);  // B's box in A's frame, once per query
-    const auto [c, d] = in_box_frame(ba, mapped_box.axes, mapped_box.center);
-    const bool overlap = obb_overlap(c, d, ba.half_extents_d(), bb.half_extents_d(), margin);
+    // collide() tests a split's two child pairs at once (boxes_overlap2), lane by lane the same
+    // arithmetic as this one-pair test, and counts them as they are popped: the same counts.
+    const bool overlap = box_overlap(ba, mapped_box, bb.half_extents, margin);
     const bool leaves = ta.nodes[ia].is_leaf() && tb.nodes[ib].is_leaf();
     record(ia, ib, !overlap ? PairOutcome::culled : leaves ? PairOutcome::leaves : PairOutcome::descended);
     return overlap;

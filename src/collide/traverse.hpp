@@ -24,14 +24,21 @@ struct NodePair {
   std::uint32_t a, b;
 };
 
+// A node pair whose box test was made when it was pushed (traverse_pairs_tested).
+struct TestedPair {
+  std::uint32_t a, b;
+  bool overlap;
+};
+
 // Explicit traversal stack: a fixed inline buffer, spilling to the heap only for very deep trees.
-class PairStack {
+template <class Pair>
+class BasicPairStack {
  public:
   void clear() {
     size_ = 0;
     spill_.clear();
   }
-  void push(NodePair p) {
+  void push(Pair p) {
     if (size_ < inline_.size()) {
       inline_[size_++] = p;
     } else {
@@ -40,10 +47,10 @@ class PairStack {
     }
   }
   [[nodiscard]] bool empty() const { return size_ == 0; }
-  NodePair pop() {
+  Pair pop() {
     --size_;
     if (size_ >= inline_.size()) {
-      const NodePair p = spill_.back();
+      const Pair p = spill_.back();
       spill_.pop_back();
       return p;
     }
@@ -51,10 +58,12 @@ class PairStack {
   }
 
  private:
-  std::array<NodePair, 256> inline_;
-  std::vector<NodePair> spill_;
+  std::array<Pair, 256> inline_;
+  std::vector<Pair> spill_;
   std::size_t size_ = 0;
 };
+using PairStack = BasicPairStack<NodePair>;
+using TestedPairStack = BasicPairStack<TestedPair>;
 
 // The size that DescendRule compares.
 [[nodiscard]] inline double descend_size(const CompactBox& box, DescendRule rule) {
@@ -87,6 +96,50 @@ Walk traverse_pairs(const Tree& ta, const Tree& tb, DescendRule rule, PairStack&
       stack.push({np.a, nb.first + 1});
       stack.push({np.a, nb.first});
     }
+  }
+  return Walk::go_on;
+}
+
+// traverse_pairs with the box tests of a split made together: a split tests both child pairs at
+// once (test_children_a(a_first, b) for A's children a_first, a_first + 1 against b, or
+// test_children_b(a, b_first)), each returning {first pair overlaps, second pair overlaps};
+// test(a, b) tests the root pair. The pairs are visited in traverse_pairs' order, and `box_tests`
+// counts what traverse_pairs' test would have counted. A walk that `can_stop` (first_hit) pushes
+// culled pairs too and counts the tests of the popped pairs only: it stops with tested pairs left
+// on the stack, which traverse_pairs would never have tested. A walk that cannot stop pops every
+// pair it pushes, so it counts the tests when it makes them and pushes the overlapping pairs only.
+// So both walks see the same pairs, the same leaf pairs in the same order, and the same counts.
+template <class NodeTest, class ChildrenA, class ChildrenB, class LeafPair>
+Walk traverse_pairs_tested(const Tree& ta, const Tree& tb, DescendRule rule, TestedPairStack& stack,
+                           bool can_stop, std::uint64_t& box_tests, NodeTest&& test, ChildrenA&& test_children_a,
+                           ChildrenB&& test_children_b, LeafPair&& leaves) {
+  stack.clear();
+  stack.push({0, 0, test(0u, 0u)});
+  if (!can_stop) ++box_tests;
+  while (!stack.empty()) {
+    const TestedPair np = stack.pop();
+    if (can_stop) ++box_tests;
+    if (!np.overlap) continue;
+    const Node& na = ta.nodes[np.a];
+    const Node& nb = tb.nodes[np.b];
+    if (na.is_leaf() && nb.is_leaf()) {
+      if (leaves(np.a, np.b) == Walk::stop) return Walk::stop;
+      continue;
+    }
+    const bool split_a = nb.is_leaf() || (!na.is_leaf() && descend_size(na.box, rule) >= descend_size(nb.box, rule));
+    TestedPair first, second;
+    if (split_a) {
+      const auto [o0, o1] = test_children_a(na.first, np.b);
+      first = {na.first, np.b, o0};
+      second = {na.first + 1, np.b, o1};
+    } else {
+      const auto [o0, o1] = test_children_b(np.a, nb.first);
+      first = {np.a, nb.first, o0};
+      second = {np.a, nb.first + 1, o1};
+    }
+    if (!can_stop) box_tests += 2;
+    if (can_stop || second.overlap) stack.push(second);
+    if (can_stop || first.overlap) stack.push(first);
   }
   return Walk::go_on;
 }

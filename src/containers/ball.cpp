@@ -6,9 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <string>
-#include <vector>
 
 #include "tightbvh/error.hpp"
 
@@ -21,11 +19,6 @@ void check_points(std::span<const Vec3> points) {
     if (!points[i].allFinite())
       throw InputError("ball: point " + std::to_string(i) + " has a non-finite coordinate (NaN or Inf)");
 }
-
-// Working-set growth per pass over all points, and a cap on the passes (the last pass grows the
-// radius over every point whatever happens).
-constexpr std::size_t kMaxAdded = 16;
-constexpr int kMaxRounds = 100;
 
 struct Candidate {
   Vec3 center = Vec3::Zero();
@@ -99,97 +92,49 @@ Candidate small_ball(const std::array<Vec3, 5>& q, int n, std::array<Vec3, 5>& s
   return best;
 }
 
-// Grows the radius so that contains(p) holds exactly for every point (a final scan, not assumed):
-// the largest squared distance, then one square root (sqrt is monotone and correctly rounded, so
-// this is the largest norm() that contains() computes).
+// Grows the radius so that contains(p) holds exactly for every point (a final scan, not assumed).
 Ball grown(const Vec3& center, double radius, std::span<const Vec3> points) {
+  // The largest squared distance, then one square root: sqrt is monotone and correctly rounded,
+  // so this is the largest norm() that contains() computes.
   double far2 = 0.0;
   for (const Vec3& p : points) far2 = std::max(far2, (p - center).squaredNorm());
   return {center, std::max(radius, std::sqrt(far2))};
 }
 
-// Gaertner's pivoting state: the support (on the boundary) and its ball, in local coordinates.
-struct Pivoting {
-  std::array<Vec3, 5> support;
-  int size = 0;
-  Vec3 center = Vec3::Zero();
-  double radius = 0.0;
-};
-
-// Gaertner's pivoting on the points w: the farthest point enters, the new support is the small
-// ball's support of (old support + that point); the radius grows strictly, so this terminates.
-void pivot(const std::vector<Vec3>& w, Pivoting& st) {
-  for (int iteration = 0; iteration < 10000; ++iteration) {
-    double far2 = -1.0;
-    Vec3 far = Vec3::Zero();
-    for (const Vec3& p : w) {
-      const double d2 = (p - st.center).squaredNorm();
-      if (d2 > far2) far2 = d2, far = p;
-    }
-    if (std::sqrt(far2) <= st.radius) return;
-    std::array<Vec3, 5> q = st.support;
-    q[st.size] = far;
-    std::array<Vec3, 5> next;
-    next.fill(Vec3::Zero());
-    int next_size = 0;
-    const Candidate c = small_ball(q, st.size + 1, next, next_size);
-    if (!c.valid || !(c.radius > st.radius)) return;  // no progress left above rounding
-    st.center = c.center;
-    st.radius = c.radius;
-    st.support = next;
-    st.size = next_size;
-  }
-}
-
 }  // namespace
 
 Ball bounding_ball(std::span<const Vec3> points) {
-  if (points.empty()) check_points(points);
+  check_points(points);
   const Vec3 origin = points[0];  // local origin: keeps precision under large offsets
-  // Pass 1: finiteness, and the extreme points along the axes: a working set whose ball is
-  // usually close to the answer (a core set, as in the ellipsoid's active set).
-  std::array<std::size_t, 6> first{};
-  Vec3 lo_t = points[0], hi_t = points[0];
-  double nan_check = 0.0;  // NaN once any coordinate is NaN or infinite
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Vec3& p = points[i];
-    nan_check += (p - p).sum();
-    for (int k = 0; k < 3; ++k) {
-      if (p[k] < lo_t[k]) lo_t[k] = p[k], first[2 * k] = i;
-      if (p[k] > hi_t[k]) hi_t[k] = p[k], first[2 * k + 1] = i;
+  std::array<Vec3, 5> support;
+  support[0] = Vec3::Zero();
+  int size = 1;
+  Vec3 center = Vec3::Zero();
+  double radius = 0.0;
+  // Gaertner's pivoting: the farthest point enters, the new support is the small ball's
+  // support of (old support + that point); the radius grows strictly, so this terminates.
+  for (int iteration = 0; iteration < 10000; ++iteration) {
+    double far2 = -1.0;
+    Vec3 far = Vec3::Zero();
+    for (const Vec3& p : points) {
+      const Vec3 local = p - origin;
+      const double d2 = (local - center).squaredNorm();
+      if (d2 > far2) far2 = d2, far = local;
     }
+    if (std::sqrt(far2) <= radius) break;
+    std::array<Vec3, 5> q = support;
+    q[size] = far;
+    std::array<Vec3, 5> next;
+    next.fill(Vec3::Zero());
+    int next_size = 0;
+    const Candidate c = small_ball(q, size + 1, next, next_size);
+    if (!c.valid || !(c.radius > radius)) break;  // no progress left above rounding
+    center = c.center;
+    radius = c.radius;
+    support = next;
+    size = next_size;
   }
-  if (!(nan_check == 0.0)) check_points(points);  // throws, naming the first non-finite point
-  std::sort(first.begin(), first.end());
-  std::vector<Vec3> w;
-  w.reserve(first.size() + kMaxAdded);
-  for (std::size_t k = 0; k < first.size(); ++k)
-    if (k == 0 || first[k] != first[k - 1]) w.push_back(points[first[k]] - origin);
-  Pivoting st;
-  st.support[0] = w[0];
-  st.size = 1;
-  st.center = w[0];
-  // The exact ball of the working set, then a pass over all points: the ones outside join the
-  // working set (the farthest and up to kMaxAdded - 1 more), until none is outside. The last
-  // pass is also the final containment scan (as grown()).
-  for (int round = 0;; ++round) {
-    pivot(w, st);
-    const Vec3 center = origin + st.center;
-    double far2 = 0.0;
-    std::size_t far = 0;
-    std::array<std::size_t, kMaxAdded> outside{};
-    std::size_t count = 0;
-    const double r2 = st.radius * st.radius;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const double d2 = (points[i] - center).squaredNorm();
-      if (d2 > far2) far2 = d2, far = i;
-      if (d2 > r2 && count + 1 < kMaxAdded) outside[count++] = i;
-    }
-    if (std::sqrt(far2) <= st.radius || round == kMaxRounds) return {center, std::max(st.radius, std::sqrt(far2))};
-    w.push_back(points[far] - origin);
-    for (std::size_t k = 0; k < count; ++k)
-      if (outside[k] != far) w.push_back(points[outside[k]] - origin);
-  }
+  return grown(origin + center, radius, points);
 }
 
 Ball fast_ball(std::span<const Vec3> points) {

@@ -153,10 +153,9 @@ TEST(Ball, MatchesBruteForceOnSmallRandomSets) {
   }
 }
 
-// Sets larger than the first working set (the extreme points along the axes), so that the passes
-// that add the points outside the working set's ball decide the answer: random, on a sphere
-// (every point on the boundary), and on a sphere with interior points, far from the origin.
-TEST(Ball, MatchesBruteForceBeyondTheFirstWorkingSet) {
+// Larger sets, where many pivots run: random, on a sphere (every point on the boundary, many
+// candidate supports), and on a sphere with interior points, far from the origin.
+TEST(Ball, MatchesBruteForceOnLargerRandomSets) {
   std::mt19937_64 rng(17);
   std::normal_distribution<double> normal;
   std::uniform_int_distribution<int> count(12, 28);

@@ -1,7 +1,9 @@
 // tightbvh distance MESH_A MESH_B --pose "r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz"
-//   [--abs-error E] [--rel-error R] [--upper-bound D] [--solid] [--fitter F] [--json]: builds both trees and
-// returns the minimum distance with A at the identity and B at the given pose (as collide).
+//   [--abs-error E] [--rel-error R] [--upper-bound D] [--solid] [--fitter F] [--json] [--view DIR]: builds both
+// trees and returns the minimum distance with A at the identity and B at the given pose (as collide). --view
+// writes DIR/index.html: both posed meshes, the closest triangles and the segment between the closest points.
 #include <chrono>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -12,6 +14,8 @@
 #include "tightbvh/build.hpp"
 #include "tightbvh/closed.hpp"
 #include "tightbvh/distance.hpp"
+#include "view/page.hpp"
+#include "view/scene.hpp"
 
 namespace tightbvh::cli {
 namespace {
@@ -22,6 +26,7 @@ struct Args {
   unsigned threads = 0;
   DistanceOptions options;
   bool json = false;
+  std::string view;  // directory of the page, if asked
 };
 
 struct Run {
@@ -45,6 +50,14 @@ struct Run {
   return run;
 }
 
+// The page of --view (before anything is printed: a failure is the one error line).
+void write_view(const Args& args, const Run& run) {
+  const auto name = [](const std::string& path) { return std::filesystem::path(path).filename().string(); };
+  const std::string title = name(args.mesh_a) + " (A) and " + name(args.mesh_b) + " (B): distance, fitter " +
+                            to_string(run.pair.fitter);
+  view::write_page(args.view, view::distance_scene(title, {run.pair.a, run.pair.b, run.pair.pose_b, run.result}));
+}
+
 [[nodiscard]] nlohmann::json to_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 void print_distance(const Args& args, const Run& run) {
@@ -61,6 +74,7 @@ void print_distance(const Args& args, const Run& run) {
                           {"triangle_pairs", r.stats.triangle_pairs},
                           {"seconds", run.query_seconds},
                           {"build_seconds", run.pair.build_seconds}};
+    if (!args.view.empty()) out["view"] = (std::filesystem::path(args.view) / "index.html").string();
     if (!r.beyond_upper_bound) {
       if (r.inside == Inside::none) out["triangles"] = {r.pair.a, r.pair.b};
       out["point_a"] = to_json(r.point_a);
@@ -89,6 +103,7 @@ void print_distance(const Args& args, const Run& run) {
             << "triangle pairs: " << r.stats.triangle_pairs << '\n'
             << "seconds: " << run.query_seconds << " (query), " << run.pair.build_seconds << " (build, fitter "
             << to_string(run.pair.fitter) << ")\n";
+  if (!args.view.empty()) std::cout << "wrote " << (std::filesystem::path(args.view) / "index.html").string() << '\n';
 }
 
 }  // namespace
@@ -114,7 +129,14 @@ void add_distance_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "build threads (0: all cores)")->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON instead of text");
-  cmd->callback([args] { print_distance(*args, run_distance(*args)); });
+  cmd->add_option("--view", args->view,
+                  "write DIR/index.html: the posed meshes, the closest triangles and the segment between the closest "
+                  "points");
+  cmd->callback([args] {
+    const Run run = run_distance(*args);
+    if (!args->view.empty()) write_view(*args, run);
+    print_distance(*args, run);
+  });
 }
 
 }  // namespace tightbvh::cli

@@ -122,6 +122,31 @@ nlohmann::json contacts_scene(const std::string& title, const ContactInput& inpu
           {"result", result}};
 }
 
+nlohmann::json distance_scene(const std::string& title, const DistanceInput& input) {
+  const DistanceResult& r = input.result;
+  std::set<std::uint32_t> closest_a, closest_b;
+  nlohmann::json closest = nlohmann::json::array();
+  if (!r.beyond_upper_bound) {
+    if (r.inside == Inside::none) {
+      closest_a.insert(r.pair.a);
+      closest_b.insert(r.pair.b);
+    }
+    // Full precision: the segment may be far shorter than the scene's rounding step.
+    for (const Vec3& p : {r.point_a, r.point_b}) closest.insert(closest.end(), {p.x(), p.y(), p.z()});
+  }
+  const nlohmann::json result = {{"distance", r.distance},
+                                 {"beyond_upper_bound", r.beyond_upper_bound},
+                                 {"inside", to_string(r.inside)},
+                                 {"node_pairs", r.stats.node_pairs},
+                                 {"triangle_pairs", r.stats.triangle_pairs}};
+  return {{"kind", "distance"},
+          {"title", title},
+          {"meshes", {mesh_json(input.a), mesh_json(input.b, input.pose_b)}},
+          {"contacts", {corners_json(input.a, closest_a, Pose{}), corners_json(input.b, closest_b, input.pose_b)}},
+          {"closest", std::move(closest)},
+          {"result", result}};
+}
+
 nlohmann::json descent_json(const CollideTrace& trace, const Tree& a, const Tree& b, const Pose& pose_b,
                             std::size_t max_pairs) {
   const std::size_t drawn = std::min(max_pairs, trace.pairs.size());

@@ -10,6 +10,7 @@
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
 #include "tightbvh/collide_trace.hpp"
+#include "tightbvh/distance.hpp"
 #include "view/decimate.hpp"
 
 namespace tightbvh::view {
@@ -50,6 +51,18 @@ struct ContactInput {
   bool all_pairs = false;
 };
 [[nodiscard]] nlohmann::json contacts_scene(const std::string& title, const ContactInput& input);
+
+// The scene of `tightbvh distance --view`: {"kind": "distance", "title", "meshes": [A, B] (B posed
+// into A's frame), "contacts": [corners of A's closest triangle, of B's] (none when no pair is the
+// answer), "closest": [point on A, point on B] (6 numbers, A's frame; empty beyond the upper bound),
+// "result": {"distance", "beyond_upper_bound", "inside", "node_pairs", "triangle_pairs"}}.
+struct DistanceInput {
+  const Mesh& a;
+  const Mesh& b;
+  const Pose& pose_b;  // B in A's frame (A at the identity: the result's world frame is A's)
+  const DistanceResult& result;
+};
+[[nodiscard]] nlohmann::json distance_scene(const std::string& title, const DistanceInput& input);
 
 // The descent of the query (collide_trace with A at the identity and B at pose_b), for the
 // contacts page: {"visited", "drawn" (pairs below), "max_drawn", "per_level": [[culled, descended,

@@ -1,5 +1,5 @@
 """Collide two meshes and print the touching triangle pairs (the Python twin of
-examples/collide_two_meshes.cpp). Usage: collide_two_meshes.py [MESH_A MESH_B]"""
+examples/collide_two_meshes.cpp), then their distance once moved apart. Usage: collide_two_meshes.py [MESH_A MESH_B]"""
 import pathlib
 import sys
 
@@ -22,3 +22,9 @@ print(f"{'hit' if result.hit else 'no hit'}: {len(result.pairs)} touching triang
       f"({result.stats['box_tests']} box tests, {result.stats['triangle_tests']} triangle tests)")
 for triangle_a, triangle_b in result.pairs[:10]:
     print(f"  triangle {triangle_a} of A touches triangle {triangle_b} of B")
+
+# Moved apart: how far, and where (closest points in the world frame, here A's).
+pose_b[:3, 3] = [1.5, 0.0, 0.0]
+gap = tightbvh.distance(tree_a, a, None, tree_b, b, pose_b)
+print(f"at x = 1.5: distance {gap.distance:.6f} between triangle {gap.triangles[0]} of A and "
+      f"{gap.triangles[1]} of B, from {np.round(gap.point_a, 4)} to {np.round(gap.point_b, 4)}")

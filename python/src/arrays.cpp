@@ -208,4 +208,13 @@ py::array_t<double> to_array(std::span<const Vec3> points) {
   return array;
 }
 
+unsigned thread_count(py::handle object, const std::string& name) {
+  if (py::isinstance<py::bool_>(object) || !py::isinstance<py::int_>(object))
+    throw py::type_error(name + ": expected an integer");
+  const long long threads = object.cast<long long>();
+  if (threads < 0 || threads > 4096)
+    throw py::value_error(name + ": must be in [0, 4096], got " + std::to_string(threads));
+  return static_cast<unsigned>(threads);
+}
+
 }  // namespace tightbvh::python

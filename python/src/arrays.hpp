@@ -36,6 +36,9 @@ namespace py = pybind11;
 // An (N, 4, 4) array of matrices, or an (Rs, ts) pair with Rs (N, 3, 3) and ts (N, 3).
 [[nodiscard]] std::vector<Pose> to_poses(py::handle object, const std::string& name);
 
+// A thread count (a Python int in [0, 4096]; 0: all cores). TypeError for bools and non-integers.
+[[nodiscard]] unsigned thread_count(py::handle object, const std::string& name);
+
 // Copies to new NumPy arrays.
 [[nodiscard]] py::array_t<double> to_array(const Vec3& v);
 [[nodiscard]] py::array_t<double> to_array(const Mat3& m);                 // m(i, j) at [i, j]: columns stay columns

@@ -16,6 +16,7 @@ struct PyResult {
   bool hit = false;
   py::array_t<std::uint32_t> pairs;
   QueryStats stats;
+  Inside inside = Inside::none;
 };
 
 static_assert(sizeof(TrianglePair) == 2 * sizeof(std::uint32_t), "pairs are copied as (K, 2) rows");
@@ -23,18 +24,19 @@ static_assert(sizeof(TrianglePair) == 2 * sizeof(std::uint32_t), "pairs are copi
 PyResult to_python(const QueryResult& r) {
   py::array_t<std::uint32_t> pairs({static_cast<py::ssize_t>(r.pairs.size()), py::ssize_t{2}});
   if (!r.pairs.empty()) std::memcpy(pairs.mutable_data(), r.pairs.data(), r.pairs.size() * sizeof(TrianglePair));
-  return {r.hit, std::move(pairs), r.stats};
+  return {r.hit, std::move(pairs), r.stats, r.inside};
 }
 
-QueryOptions query_options(bool all_pairs, double margin) {
+QueryOptions query_options(bool all_pairs, double margin, bool solid) {
   QueryOptions options;
+  options.solid = solid;  // open meshes: InputError -> ValueError naming the mesh
   options.mode = all_pairs ? QueryMode::all_pairs : QueryMode::first_hit;
   options.margin = margin;  // checked by the query (InputError -> ValueError)
   return options;
 }
 
 PyResult collide_py(const PyTree& tree_a, py::handle mesh_a, py::handle pose_a, const PyTree& tree_b, py::handle mesh_b,
-                    py::handle pose_b, bool all_pairs, double margin) {
+                    py::handle pose_b, bool all_pairs, double margin, bool solid) {
   const std::shared_ptr<const Mesh> ma = mesh_for(tree_a, mesh_a, "mesh_a");
   const std::shared_ptr<const Mesh> mb = mesh_for(tree_b, mesh_b, "mesh_b");
   const Pose pa = to_pose(pose_a, "pose_a");
@@ -42,28 +44,23 @@ PyResult collide_py(const PyTree& tree_a, py::handle mesh_a, py::handle pose_a, 
   QueryResult result;
   {
     const py::gil_scoped_release release;
-    result = collide(tree_a.tree, *ma, pa, tree_b.tree, *mb, pb, query_options(all_pairs, margin));
+    result = collide(tree_a.tree, *ma, pa, tree_b.tree, *mb, pb, query_options(all_pairs, margin, solid));
   }
   return to_python(result);
 }
 
 py::tuple collide_batch_py(const PyTree& tree_a, py::handle mesh_a, py::handle pose_a, const PyTree& tree_b,
                            py::handle mesh_b, py::handle poses_b, bool all_pairs, py::handle threads_object,
-                           double margin) {
+                           double margin, bool solid) {
   const std::shared_ptr<const Mesh> ma = mesh_for(tree_a, mesh_a, "mesh_a");
   const std::shared_ptr<const Mesh> mb = mesh_for(tree_b, mesh_b, "mesh_b");
   const Pose pa = to_pose(pose_a, "pose_a");
   const std::vector<Pose> poses = to_poses(poses_b, "poses");
-  if (py::isinstance<py::bool_>(threads_object) || !py::isinstance<py::int_>(threads_object))
-    throw py::type_error("threads: expected an integer");
-  const long long threads = threads_object.cast<long long>();
-  if (threads < 0 || threads > 4096)
-    throw py::value_error("threads: must be in [0, 4096], got " + std::to_string(threads));
+  const unsigned threads = thread_count(threads_object, "threads");
   std::vector<QueryResult> results;
   {
     const py::gil_scoped_release release;
-    results = collide_batch(tree_a.tree, *ma, pa, tree_b.tree, *mb, poses, query_options(all_pairs, margin),
-                            static_cast<unsigned>(threads));
+    results = collide_batch(tree_a.tree, *ma, pa, tree_b.tree, *mb, poses, query_options(all_pairs, margin, solid), threads);
   }
   const auto n = static_cast<py::ssize_t>(results.size());
   py::array_t<bool> hits(n);
@@ -78,7 +75,7 @@ py::tuple collide_batch_py(const PyTree& tree_a, py::handle mesh_a, py::handle p
 }
 
 PyResult brute_force_py(py::handle mesh_a, py::handle pose_a, py::handle mesh_b, py::handle pose_b, bool all_pairs,
-                        double margin) {
+                        double margin, bool solid) {
   const std::shared_ptr<const Mesh> ma = to_mesh(mesh_a, "mesh_a");
   const std::shared_ptr<const Mesh> mb = to_mesh(mesh_b, "mesh_b");
   const Pose pa = to_pose(pose_a, "pose_a");
@@ -86,7 +83,7 @@ PyResult brute_force_py(py::handle mesh_a, py::handle pose_a, py::handle mesh_b,
   QueryResult result;
   {
     const py::gil_scoped_release release;
-    result = collide_brute_force(*ma, pa, *mb, pb, query_options(all_pairs, margin));
+    result = collide_brute_force(*ma, pa, *mb, pb, query_options(all_pairs, margin, solid));
   }
   return to_python(result);
 }
@@ -104,23 +101,26 @@ void bind_collide(py::module_& m) {
                                d["triangle_tests"] = r.stats.triangle_tests;
                                return d;
                              })
+      .def_property_readonly("inside", [](const PyResult& r) { return std::string(to_string(r.inside)); },
+                             "solid only: 'b_in_a' or 'a_in_b' when the hit is a containment, else 'none'")
       .def("__bool__", [](const PyResult& r) { return r.hit; })
       .def("__repr__", [](const PyResult& r) {
         return std::string("<tightbvh.Result hit=") + (r.hit ? "True" : "False") +
                " pairs=" + std::to_string(r.pairs.shape(0)) + ">";
       });
   m.def("collide", &collide_py, py::arg("tree_a"), py::arg("mesh_a"), py::arg("pose_a"), py::arg("tree_b"),
-        py::arg("mesh_b"), py::arg("pose_b"), py::arg("all_pairs") = false, py::arg("margin") = 0.0,
+        py::arg("mesh_b"), py::arg("pose_b"), py::arg("all_pairs") = false, py::arg("margin") = 0.0, py::arg("solid") = false,
         "Touching triangle pairs of A at pose_a and B at pose_b (poses: 4x4, (R, t) or None for the identity; "
         "a mesh of None means the tree's own). first hit by default; all_pairs=True: every pair, sorted. "
-        "margin > 0: the pairs at distance <= margin (the safety margin of collide.hpp).");
+        "margin > 0: the pairs at distance <= margin (the safety margin of collide.hpp). "
+        "solid: closed meshes as solids, a hit also when one is wholly inside the other (Result.inside).");
   m.def("collide_batch", &collide_batch_py, py::arg("tree_a"), py::arg("mesh_a"), py::arg("pose_a"), py::arg("tree_b"),
         py::arg("mesh_b"), py::arg("poses"), py::arg("all_pairs") = false, py::arg("threads") = 0,
-        py::arg("margin") = 0.0,
+        py::arg("margin") = 0.0, py::arg("solid") = false,
         "One query per pose of B ((N, 4, 4) or (Rs (N, 3, 3), ts (N, 3))), on `threads` threads (0: all cores). "
         "Returns (hits (N,) bool, pair_counts (N,) int64), identical for any thread count.");
   m.def("collide_brute_force", &brute_force_py, py::arg("mesh_a"), py::arg("pose_a"), py::arg("mesh_b"),
-        py::arg("pose_b"), py::arg("all_pairs") = false, py::arg("margin") = 0.0,
+        py::arg("pose_b"), py::arg("all_pairs") = false, py::arg("margin") = 0.0, py::arg("solid") = false,
         "The reference: every triangle pair tested, the same predicate and arithmetic as collide() (for small "
         "meshes and tests).");
 }

@@ -31,5 +31,6 @@ void bind_mesh(py::module_& m);
 void bind_fit(py::module_& m);
 void bind_tree(py::module_& m);
 void bind_collide(py::module_& m);
+void bind_distance(py::module_& m);
 
 }  // namespace tightbvh::python

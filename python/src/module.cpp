@@ -22,4 +22,5 @@ PYBIND11_MODULE(_tightbvh, m) {
   tightbvh::python::bind_fit(m);
   tightbvh::python::bind_tree(m);
   tightbvh::python::bind_collide(m);
+  tightbvh::python::bind_distance(m);
 }

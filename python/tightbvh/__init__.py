@@ -9,10 +9,12 @@ Bad input raises ValueError or TypeError naming the argument.
     tree_a = tightbvh.build(a, fitter="approx")
     box = tightbvh.fit(a.vertices, method="exact")
     result = tightbvh.collide(tree_a, a, None, tree_b, b, pose_b, all_pairs=True)
+    gap = tightbvh.distance(tree_a, a, None, tree_b, b, pose_b)  # .distance, .point_a, .point_b
 """
 from ._tightbvh import (
     Ball,
     Box,
+    Distance,
     Dop,
     Ellipsoid,
     Mesh,
@@ -25,16 +27,21 @@ from ._tightbvh import (
     collide,
     collide_batch,
     collide_brute_force,
+    distance,
+    distance_batch,
+    distance_brute_force,
     fit,
     fit_methods,
     fitter_names,
     load_mesh,
+    refit,
     split_names,
 )
 
 __all__ = [
     "Ball",
     "Box",
+    "Distance",
     "Dop",
     "Ellipsoid",
     "Mesh",
@@ -46,9 +53,13 @@ __all__ = [
     "collide",
     "collide_batch",
     "collide_brute_force",
+    "distance",
+    "distance_batch",
+    "distance_brute_force",
     "fit",
     "fit_methods",
     "fitter_names",
     "load_mesh",
+    "refit",
     "split_names",
 ]

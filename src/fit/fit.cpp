@@ -141,11 +141,15 @@ void extreme_point_kernel(std::span<const Vec3> points, const Obb& frame, std::v
       if (d > hi[i]) hi[i] = d, at_hi[i] = p;
     }
   }
+  // Many directions share an extreme point: drop repeated indices first (cheap integer sort), so
+  // that only the distinct points are sorted (the same result as sorting all 98).
+  std::array<std::size_t, 2 * kMax> at;
+  std::copy_n(at_lo.begin(), count, at.begin());
+  std::copy_n(at_hi.begin(), count, at.begin() + count);
+  std::sort(at.begin(), at.begin() + 2 * count);
+  const auto end = std::unique(at.begin(), at.begin() + 2 * count);
   out.clear();
-  for (std::size_t i = 0; i < count; ++i) {
-    out.push_back(points[at_lo[i]]);
-    out.push_back(points[at_hi[i]]);
-  }
+  for (auto i = at.begin(); i != end; ++i) out.push_back(points[*i]);
   sort_unique(out);
 }
 

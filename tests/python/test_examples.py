@@ -19,7 +19,8 @@ def test_collide_two_meshes_prints_the_pairs():
     out = run("collide_two_meshes.py")
     lines = out.splitlines()
     assert lines[0].startswith("hit: ") and "touching triangle pairs" in lines[0]
-    assert len(lines) == 11 and all(line.startswith("  triangle ") for line in lines[1:])
+    assert len(lines) == 12 and all(line.startswith("  triangle ") for line in lines[1:11])
+    assert lines[11].startswith("at x = 1.5: distance ") and float(lines[11].split()[5]) > 0
 
 
 def test_fit_containers_prints_every_volume():

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The view pages as a person sees them: check-view.sh TIGHTBVH_BINARY SOURCE_DIR OUT_DIR
-# Writes a `tightbvh view` page and two `tightbvh collide --view` pages (all_pairs; first_hit, its
-# descent panel opened with #boxes-only so that it must draw node boxes), opens each in headless
+# Writes a `tightbvh view` page, two `tightbvh collide --view` pages (all_pairs; first_hit, its
+# descent panel opened with #boxes-only so that it must draw node boxes) and a `tightbvh distance
+# --view` page, opens each in headless
 # Chromium (WebGL through SwiftShader, networking off) and fails when a page references the
 # network, its scripts throw or leave a panel blank (the page logs "tightbvh-view-status: ok" to
 # the console only when every panel drew pixels; Chromium's log shows it), or the screenshot
@@ -21,6 +22,8 @@ trap 'rm -rf "$profile"' EXIT
   --fitter pca --all-pairs --view "$out/contacts" >/dev/null
 "$bin" collide "$src/meshes/knot1.off" "$src/meshes/elephant.off" --pose "0 -1 0 1 0 0 0 0 1 0.1 0 0" \
   --view "$out/descent" >/dev/null
+"$bin" distance "$src/meshes/knot1.off" "$src/meshes/elephant.off" --pose "0 -1 0 1 0 0 0 0 1 1.3 0 0" \
+  --view "$out/distance" >/dev/null
 grep -q '"descent":' "$out/descent/index.html" || { echo "check-view: no descent in the first_hit page" >&2; exit 1; }
 
 # status_of PAGE PNG [#HASH]: screenshots file://PAGE#HASH into PNG and prints the status the page logged.
@@ -34,7 +37,7 @@ status_of() {
 }
 
 failed=0
-for name in trees contacts descent; do
+for name in trees contacts descent distance; do
   page="$out/$name/index.html"
   if grep -Eq "(src|href)=['\"]?https?:" "$page"; then
     echo "check-view: $name page references the network" >&2; failed=1; continue

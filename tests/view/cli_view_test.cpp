@@ -71,6 +71,37 @@ TEST(CliView, CollideViewHighlightsContacts) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(CliView, DistanceViewMarksTheClosestTrianglesAndPoints) {
+  const auto dir = temp("distance");
+  const CliRun r = test::run_cli("distance " + mesh("knot1.off") + " " + mesh("elephant.off") +
+                                 " --pose \"0 -1 0 1 0 0 0 0 1 1.3 0 0\" --json --view " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json out = nlohmann::json::parse(r.out);
+  EXPECT_EQ(out["view"], (dir / "index.html").string());
+  ASSERT_GT(out["distance"].get<double>(), 0.0);
+  const nlohmann::json scene = scene_of(slurp(dir / "index.html"));
+  EXPECT_EQ(scene["kind"], "distance");
+  EXPECT_EQ(scene["result"]["distance"], out["distance"]);
+  EXPECT_EQ(scene["result"]["node_pairs"], out["node_pairs"]);
+  EXPECT_EQ(scene["contacts"][0].size(), 9u);  // one closest triangle each
+  EXPECT_EQ(scene["contacts"][1].size(), 9u);
+  // The segment: the two closest points the query reported, at full precision.
+  ASSERT_EQ(scene["closest"].size(), 6u);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(scene["closest"][k], out["point_a"][k]);
+    EXPECT_EQ(scene["closest"][3 + k], out["point_b"][k]);
+  }
+  // Beyond the upper bound: no triangles, no segment.
+  const CliRun far = test::run_cli("distance " + mesh("knot1.off") + " " + mesh("elephant.off") +
+                                   " --pose \"0 -1 0 1 0 0 0 0 1 1.3 0 0\" --upper-bound 1e-6 --view " + dir.string());
+  ASSERT_EQ(far.status, 0) << far.err;
+  const nlohmann::json none = scene_of(slurp(dir / "index.html"));
+  EXPECT_TRUE(none["result"]["beyond_upper_bound"].get<bool>());
+  EXPECT_EQ(none["closest"].size(), 0u);
+  EXPECT_EQ(none["contacts"][0].size(), 0u);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(CliView, CollideViewDrawsTheFirstHitDescent) {
   const auto dir = temp("descent");
   const CliRun r = test::run_cli("collide " + mesh("knot1.off") + " " + mesh("elephant.off") +
@@ -105,6 +136,8 @@ TEST(CliView, BadInputIsOneLineAndNonZeroExit) {
                                   "view " + dir.string() + "/missing.off -o " + dir.string(),
                                   "view " + mesh("knot1.off") + " --fitter aabb -o " + (blocker / "sub").string(),
                                   "collide " + mesh("knot1.off") + " " + mesh("knot1.off") + " --fitter aabb --view " +
+                                      (blocker / "sub").string(),
+                                  "distance " + mesh("knot1.off") + " " + mesh("knot1.off") + " --fitter aabb --view " +
                                       (blocker / "sub").string()}) {
     SCOPED_TRACE(args);
     const CliRun r = test::run_cli(args);

@@ -1,0 +1,167 @@
+// tightbvh.distance, distance_batch, distance_brute_force, refit and Distance (the answer).
+#include <pybind11/stl.h>
+
+#include <limits>
+#include <utility>
+
+#include "arrays.hpp"
+#include "bindings.hpp"
+#include "tightbvh/distance.hpp"
+#include "tightbvh/refit.hpp"
+
+namespace tightbvh::python {
+namespace {
+
+DistanceOptions distance_options(double absolute_error, double relative_error, double upper_bound, bool solid) {
+  DistanceOptions options;
+  options.absolute_error = absolute_error;  // checked by the query (InputError -> ValueError)
+  options.relative_error = relative_error;
+  options.upper_bound = upper_bound;
+  options.solid = solid;
+  return options;
+}
+
+// The triangle pair, or None when no pair is the answer (beyond the upper bound, or a solid's
+// containment).
+py::object triangles(const DistanceResult& r) {
+  if (r.beyond_upper_bound || r.inside != Inside::none) return py::none();
+  return py::make_tuple(r.pair.a, r.pair.b);
+}
+
+// A point of the answer, or None beyond the upper bound (no point was found).
+py::object point(const DistanceResult& r, const Vec3& p) {
+  if (r.beyond_upper_bound) return py::none();
+  return to_array(p);
+}
+
+DistanceResult distance_py(const PyTree& tree_a, py::handle mesh_a, py::handle pose_a, const PyTree& tree_b,
+                           py::handle mesh_b, py::handle pose_b, double absolute_error, double relative_error,
+                           double upper_bound, bool solid) {
+  const std::shared_ptr<const Mesh> ma = mesh_for(tree_a, mesh_a, "mesh_a");
+  const std::shared_ptr<const Mesh> mb = mesh_for(tree_b, mesh_b, "mesh_b");
+  const Pose pa = to_pose(pose_a, "pose_a");
+  const Pose pb = to_pose(pose_b, "pose_b");
+  const DistanceOptions options = distance_options(absolute_error, relative_error, upper_bound, solid);
+  const py::gil_scoped_release release;
+  return distance(tree_a.tree, *ma, pa, tree_b.tree, *mb, pb, options);
+}
+
+// (distances (N,), triangles (N, 2) int64 with -1 where no pair is the answer, points_a and
+// points_b (N, 3) world, NaN beyond the upper bound).
+py::tuple distance_batch_py(const PyTree& tree_a, py::handle mesh_a, py::handle pose_a, const PyTree& tree_b,
+                            py::handle mesh_b, py::handle poses_b, double absolute_error, double relative_error,
+                            double upper_bound, bool solid, py::handle threads_object) {
+  const std::shared_ptr<const Mesh> ma = mesh_for(tree_a, mesh_a, "mesh_a");
+  const std::shared_ptr<const Mesh> mb = mesh_for(tree_b, mesh_b, "mesh_b");
+  const Pose pa = to_pose(pose_a, "pose_a");
+  const std::vector<Pose> poses = to_poses(poses_b, "poses");
+  const unsigned threads = thread_count(threads_object, "threads");
+  const DistanceOptions options = distance_options(absolute_error, relative_error, upper_bound, solid);
+  std::vector<DistanceResult> results;
+  {
+    const py::gil_scoped_release release;
+    results = distance_batch(tree_a.tree, *ma, pa, tree_b.tree, *mb, poses, options, threads);
+  }
+  const auto n = static_cast<py::ssize_t>(results.size());
+  py::array_t<double> distances(n), points_a({n, py::ssize_t{3}}), points_b({n, py::ssize_t{3}});
+  py::array_t<std::int64_t> pairs({n, py::ssize_t{2}});
+  auto d = distances.mutable_unchecked<1>();
+  auto p = pairs.mutable_unchecked<2>();
+  auto qa = points_a.mutable_unchecked<2>(), qb = points_b.mutable_unchecked<2>();
+  constexpr double kNoPoint = std::numeric_limits<double>::quiet_NaN();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const DistanceResult& r = results[i];
+    d(i) = r.distance;
+    const bool has_pair = !r.beyond_upper_bound && r.inside == Inside::none;
+    p(i, 0) = has_pair ? std::int64_t{r.pair.a} : -1;
+    p(i, 1) = has_pair ? std::int64_t{r.pair.b} : -1;
+    for (int k = 0; k < 3; ++k) {
+      qa(i, k) = r.beyond_upper_bound ? kNoPoint : r.point_a[k];
+      qb(i, k) = r.beyond_upper_bound ? kNoPoint : r.point_b[k];
+    }
+  }
+  return py::make_tuple(distances, pairs, points_a, points_b);
+}
+
+DistanceResult brute_force_py(py::handle mesh_a, py::handle pose_a, py::handle mesh_b, py::handle pose_b, bool solid) {
+  const std::shared_ptr<const Mesh> ma = to_mesh(mesh_a, "mesh_a");
+  const std::shared_ptr<const Mesh> mb = to_mesh(mesh_b, "mesh_b");
+  const Pose pa = to_pose(pose_a, "pose_a");
+  const Pose pb = to_pose(pose_b, "pose_b");
+  const py::gil_scoped_release release;
+  return distance_brute_force(*ma, pa, *mb, pb, distance_options(0.0, 0.0, std::numeric_limits<double>::infinity(), solid));
+}
+
+// A deforming mesh's new frame: the same faces, moved vertices. Returns a new Tree over `mesh`
+// with the old tree's topology (refit.hpp); the old tree and its mesh are unchanged (Meshes are
+// immutable in Python).
+PyTree refit_py(const PyTree& tree, py::handle mesh_object, const std::string& fitter, py::handle threads_object) {
+  RefitOptions options;
+  const auto parsed = parse_fitter(fitter);
+  if (!parsed) throw py::value_error("fitter: unknown fitter '" + fitter + "' (see fitter_names())");
+  options.fitter = *parsed;
+  options.threads = thread_count(threads_object, "threads");
+  PyTree result{{}, to_mesh(mesh_object, "mesh"), std::nullopt, fitter};
+  const py::gil_scoped_release release;
+  result.tree = refitted(tree.tree, *result.mesh, options);
+  return result;
+}
+
+}  // namespace
+
+void bind_distance(py::module_& m) {
+  py::class_<DistanceResult>(m, "Distance",
+                             "A distance query's answer: distance, triangles, the closest points (world and each "
+                             "mesh's frame), beyond_upper_bound, inside, stats")
+      .def_readonly("distance", &DistanceResult::distance,
+                    "the minimum distance (0 when touching), or upper_bound when beyond_upper_bound")
+      .def_readonly("beyond_upper_bound", &DistanceResult::beyond_upper_bound)
+      .def_property_readonly("triangles", &triangles,
+                             "(triangle of A, triangle of B), or None (beyond the upper bound, or a solid inside "
+                             "the other)")
+      .def_property_readonly(
+          "point_a", [](const DistanceResult& r) { return point(r, r.point_a); }, "closest point on A, world (3,)")
+      .def_property_readonly(
+          "point_b", [](const DistanceResult& r) { return point(r, r.point_b); }, "closest point on B, world (3,)")
+      .def_property_readonly(
+          "point_a_local", [](const DistanceResult& r) { return point(r, r.point_a_local); },
+          "the same point in A's mesh frame")
+      .def_property_readonly(
+          "point_b_local", [](const DistanceResult& r) { return point(r, r.point_b_local); },
+          "the same point in B's mesh frame")
+      .def_property_readonly("inside", [](const DistanceResult& r) { return std::string(to_string(r.inside)); },
+                             "solid only: 'b_in_a' or 'a_in_b' when the distance is 0 by containment, else 'none'")
+      .def_property_readonly("stats",
+                             [](const DistanceResult& r) {
+                               py::dict d;
+                               d["node_pairs"] = r.stats.node_pairs;
+                               d["triangle_pairs"] = r.stats.triangle_pairs;
+                               return d;
+                             })
+      .def("__repr__", [](const DistanceResult& r) {
+        return "<tightbvh.Distance " + std::string(r.beyond_upper_bound ? ">= " : "") + std::to_string(r.distance) +
+               ">";
+      });
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  m.def("distance", &distance_py, py::arg("tree_a"), py::arg("mesh_a"), py::arg("pose_a"), py::arg("tree_b"),
+        py::arg("mesh_b"), py::arg("pose_b"), py::arg("absolute_error") = 0.0, py::arg("relative_error") = 0.0,
+        py::arg("upper_bound") = kInfinity, py::arg("solid") = false,
+        "Minimum distance between A at pose_a and B at pose_b, with the closest points and triangles "
+        "(distance.hpp). Errors: d_true <= d <= d_true * (1 + relative_error) + absolute_error. upper_bound: "
+        "stop early when nothing is closer. solid: closed meshes as solids (0 when one is inside the other).");
+  m.def("distance_batch", &distance_batch_py, py::arg("tree_a"), py::arg("mesh_a"), py::arg("pose_a"),
+        py::arg("tree_b"), py::arg("mesh_b"), py::arg("poses"), py::arg("absolute_error") = 0.0,
+        py::arg("relative_error") = 0.0, py::arg("upper_bound") = kInfinity, py::arg("solid") = false,
+        py::arg("threads") = 0,
+        "One distance per pose of B, on `threads` threads (0: all cores). Returns (distances (N,), triangles "
+        "(N, 2) int64, -1 where no pair is the answer, points_a (N, 3), points_b (N, 3) world, NaN beyond the "
+        "upper bound), identical for any thread count.");
+  m.def("distance_brute_force", &brute_force_py, py::arg("mesh_a"), py::arg("pose_a"), py::arg("mesh_b"),
+        py::arg("pose_b"), py::arg("solid") = false,
+        "The reference: every triangle pair, the same triangle distance and transform as distance().");
+  m.def("refit", &refit_py, py::arg("tree"), py::arg("mesh"), py::arg("fitter") = "pca", py::arg("threads") = 0,
+        "A new Tree over `mesh` (the tree's faces, moved vertices) with the tree's topology and every box "
+        "fitted again (refit.hpp); ValueError when the face count differs.");
+}
+
+}  // namespace tightbvh::python

@@ -25,23 +25,60 @@ using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 // Square roots on: CGAL's radius is a double (the default represents it as a + b sqrt(t)).
 using Traits = CGAL::Min_sphere_of_spheres_d_traits_3<K, double, CGAL::Tag_true>;
 
-// Seconds per call (thread CPU), repeated until `budget` seconds were spent.
-template <typename F>
-double seconds_per_call(F&& f, double budget) {
-  int calls = 0;
-  const double start = bench_support::thread_seconds();
-  double spent = 0.0;
-  do {
-    f();
-    ++calls;
-    spent = bench_support::thread_seconds() - start;
-  } while (spent < budget);
-  return spent / calls;
-}
-
 inline double median_of(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+// One batch of `calls` calls of h: adds the seconds per call to `times`, returns the seconds spent.
+template <typename H>
+double timed_batch(H& h, int calls, std::vector<double>& times) {
+  const double start = bench_support::thread_seconds();
+  for (int c = 0; c < calls; ++c) h();
+  const double spent = bench_support::thread_seconds() - start;
+  times.push_back(spent / calls);
+  return spent;
+}
+
+// Calls per batch: one call timed (after a first, warm-up call), the batch about budget / 10.
+template <typename H>
+int batch_size(H& h, double budget) {
+  h();
+  std::vector<double> one;
+  timed_batch(h, 1, one);
+  return one[0] >= 0.1 * budget ? 1 : static_cast<int>(0.1 * budget / std::max(one[0], 1e-8)) + 1;
+}
+
+// Thread CPU seconds per call of f and of g, fair to tiny calls: each is timed in batches (one
+// pair of clock reads per batch of calls, the batch sized to about a tenth of `budget`), because
+// a read of the thread CPU clock costs about 1.6 us on the benchmark machine, which timed around
+// every call added as much to each call of both sides (it made a 2 us call look like 3.6 us).
+// Batches of f and g alternate, so load changes hit both; at least 3 batches each, until both
+// spent `budget`; the median batch of each.
+template <typename F, typename G>
+std::pair<double, double> seconds_per_call_pair(F&& f, G&& g, double budget) {
+  const int nf = batch_size(f, budget), ng = batch_size(g, budget);
+  std::vector<double> tf, tg;
+  double spent_f = 0.0, spent_g = 0.0;
+  while (tf.size() < 3 || spent_f < budget || spent_g < budget) {
+    spent_f += timed_batch(f, nf, tf);
+    spent_g += timed_batch(g, ng, tg);
+  }
+  return {median_of(tf), median_of(tg)};
+}
+
+// The same for one function (budget 0: one call, timed once).
+template <typename F>
+double seconds_per_call(F&& f, double budget) {
+  std::vector<double> times;
+  if (budget <= 0.0) {
+    timed_batch(f, 1, times);
+    return times[0];
+  }
+  const int n = batch_size(f, budget);
+  double spent = 0.0;
+  while (times.size() < 3 || spent < budget) spent += timed_batch(f, n, times);
+  return median_of(times);
 }
 
 inline int compare_balls(const std::vector<std::filesystem::path>& files, double budget = 0.05) {
@@ -58,8 +95,8 @@ inline int compare_balls(const std::vector<std::filesystem::path>& files, double
     for (const Vec3& p : v) spheres.emplace_back(K::Point_3(p.x(), p.y(), p.z()), 0.0);
     Ball ours, fast;
     double cgal_radius = 0.0;
-    const double t_ours = seconds_per_call([&] { ours = bounding_ball(v); }, budget);
-    const double t_cgal = seconds_per_call(
+    const auto [t_ours, t_cgal] = seconds_per_call_pair(
+        [&] { ours = bounding_ball(v); },
         [&] {
           CGAL::Min_sphere_of_spheres_d<Traits> ms(spheres.begin(), spheres.end());
           cgal_radius = ms.radius();

@@ -86,9 +86,9 @@ inline int compare_ellipsoids(const std::vector<std::filesystem::path>& files, d
     for (const Vec3& p : v) cgal_points.emplace_back(p.x(), p.y(), p.z());
     Ellipsoid ours;
     double cgal_volume = 0.0;
-    const double t_ours = ball_bench::seconds_per_call([&] { ours = bounding_ellipsoid(v, epsilon); }, budget);
-    const double t_cgal =
-        ball_bench::seconds_per_call([&] { cgal_volume = cgal_ellipsoid_volume(cgal_points, epsilon); }, budget);
+    const auto [t_ours, t_cgal] = ball_bench::seconds_per_call_pair(
+        [&] { ours = bounding_ellipsoid(v, epsilon); },
+        [&] { cgal_volume = cgal_ellipsoid_volume(cgal_points, epsilon); }, budget);
     if (cgal_volume == 0.0) {  // CGAL's numerical rank test calls some simplices degenerate
       std::printf("%-34s skipped: CGAL reports the set as not full-dimensional (our volume %.6g)\n",
                   file.filename().c_str(), ours.volume());

@@ -1,9 +1,10 @@
 #pragma once
 // The minimum-volume enclosing ellipsoid (Sunday, "Bounding Containers", The Bounding Ellipsoid),
 // to within (1+epsilon) in volume: Khachiyan's barycentric coordinate ascent with the
-// Kumar-Yildirim initialisation and the Todd-Yildirim away/drop steps (the WA-TY algorithm of
-// Todd & Yildirim 2007, "On Khachiyan's algorithm for the computation of minimum-volume enclosing
-// ellipsoids", Discrete Appl. Math. 155; Kumar & Yildirim 2005, JOTA 126).
+// Todd-Yildirim away/drop steps (the WA-TY algorithm of Todd & Yildirim 2007, "On Khachiyan's
+// algorithm for the computation of minimum-volume enclosing ellipsoids", Discrete Appl. Math.
+// 155) on an active set grown from extreme points (core sets: Kumar & Yildirim 2005, JOTA 126;
+// Sun & Freund 2004, Oper. Res. 52).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -59,9 +60,9 @@ struct Ellipsoid {
 };
 
 // An ellipsoid holding every point whose volume is at most (1 + epsilon) times the minimum
-// (up to a final relative growth of about 1e-15 for rounding). Solid sets: WA-TY on the convex
-// hull vertices, relative to a local origin and scale, stopped when the duality gap certifies
-// the volume (see ellipsoid.cpp); then a final scan over all points scales the radii by the
+// (up to a final relative growth of about 1e-15 for rounding). Solid sets: WA-TY on an active
+// set of the points (no convex hull), relative to a local origin and scale, stopped when the
+// duality gap over all points certifies the volume (see ellipsoid.cpp); then a final scan over all points scales the radii by the
 // largest scaled distance, so contains(p) holds for every input point with tolerance 0.
 // Flat sets (affine_dimension() < 3): the 2D minimum-area ellipse in the plane, the segment
 // (midpoint, half length) or the point, with zero radii elsewhere and volume 0.

@@ -45,26 +45,29 @@ Candidate circumball(const std::array<Vec3, 5>& q, const std::array<int, 4>& idx
     const double scale = g.diagonal().prod();
     const double det = g.determinant();
     if (!(scale > 0.0) || det <= 1e-26 * scale) return {};
-    const Eigen::Matrix<double, D, 1> lambda = g.partialPivLu().solve(b);
+    const Eigen::Matrix<double, D, 1> lambda = g.inverse() * b;  // closed form for D <= 3
     Candidate c{q0 + v * lambda, 0.0, true};
     for (int i = 0; i < M; ++i) c.radius = std::max(c.radius, (q[idx[i]] - c.center).norm());
     return c;
   }
 }
 
-// The exact smallest ball of n <= 5 points: the smallest circumball of a subset of at most 4
-// points that contains them all (the support set of Welzl's Sec. 2 is among these subsets).
-// `support` receives the chosen subset.
+// The exact smallest ball of n <= 5 points whose last point lies outside the smallest ball of the
+// others: the smallest circumball, containing them all, of the last point and a subset of at
+// most 3 of the others (Welzl 1991, Lemma 1: that point is on the boundary of the new ball; this
+// halves the subsets a brute force over all of them tries). `support` receives the chosen subset.
 Candidate small_ball(const std::array<Vec3, 5>& q, int n, std::array<Vec3, 5>& support, int& support_size) {
   Candidate best;
   int best_size = 0;
   std::array<int, 4> best_idx{};
-  for (int mask = 1; mask < (1 << n); ++mask) {
-    const int m = __builtin_popcount(static_cast<unsigned>(mask));
-    if (m > 4) continue;
+  const int last = n - 1;
+  for (int mask = 0; mask < (1 << last); ++mask) {
     std::array<int, 4> idx{};
-    for (int i = 0, k = 0; i < n; ++i)
-      if (mask & (1 << i)) idx[k++] = i;
+    int m = 0;
+    for (int i = 0; i < last && m < 4; ++i)
+      if (mask & (1 << i)) idx[m++] = i;
+    if (m > 3) continue;  // more than 3 of the others
+    idx[m++] = last;
     Candidate c;
     switch (m) {
       case 1: c = circumball<1>(q, idx); break;
@@ -91,9 +94,11 @@ Candidate small_ball(const std::array<Vec3, 5>& q, int n, std::array<Vec3, 5>& s
 
 // Grows the radius so that contains(p) holds exactly for every point (a final scan, not assumed).
 Ball grown(const Vec3& center, double radius, std::span<const Vec3> points) {
-  Ball ball{center, radius};
-  for (const Vec3& p : points) ball.radius = std::max(ball.radius, (p - ball.center).norm());
-  return ball;
+  // The largest squared distance, then one square root: sqrt is monotone and correctly rounded,
+  // so this is the largest norm() that contains() computes.
+  double far2 = 0.0;
+  for (const Vec3& p : points) far2 = std::max(far2, (p - center).squaredNorm());
+  return {center, std::max(radius, std::sqrt(far2))};
 }
 
 }  // namespace

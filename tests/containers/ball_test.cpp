@@ -153,6 +153,25 @@ TEST(Ball, MatchesBruteForceOnSmallRandomSets) {
   }
 }
 
+// Larger sets, where many pivots run: random, on a sphere (every point on the boundary, many
+// candidate supports), and on a sphere with interior points, far from the origin.
+TEST(Ball, MatchesBruteForceOnLargerRandomSets) {
+  std::mt19937_64 rng(17);
+  std::normal_distribution<double> normal;
+  std::uniform_int_distribution<int> count(12, 28);
+  for (int trial = 0; trial < 60; ++trial) {
+    const int n = count(rng);
+    const Vec3 offset = trial % 3 == 2 ? Vec3(1e3, -2e3, 5e2) : Vec3::Zero();
+    std::vector<Vec3> p(n);
+    for (int i = 0; i < n; ++i) {
+      const Vec3 d(normal(rng), normal(rng), normal(rng));
+      p[i] = offset + (trial % 3 == 0 ? d : d.normalized() * (i % 4 == 0 && trial % 3 == 2 ? 0.5 : 1.0));
+    }
+    SCOPED_TRACE(trial);
+    expect_exact(p);
+  }
+}
+
 // Nearly cospherical sets (many candidate supports of almost equal radius) at several scales.
 TEST(Ball, NearlyCosphericalAndScaled) {
   std::mt19937_64 rng(17);

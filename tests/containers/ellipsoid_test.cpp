@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cmath>
@@ -104,6 +105,32 @@ TEST(Ellipsoid, PointsOnAGivenEllipsoid) {
     // Tight fit: the answer is close to the given ellipsoid itself.
     const Ellipsoid e = bounding_ellipsoid(p, 1e-6);
     EXPECT_LT((e.center - center).norm(), 1e-3 * radii.maxCoeff()) << trial;
+  }
+}
+
+// Many interior points, shuffled: the active set (extreme points, then the violators of each
+// pass) must still reach the optimum within (1 + eps); interior points never change it.
+TEST(Ellipsoid, InteriorPointsAndOrderDoNotChangeTheOptimum) {
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> radius(0.2, 5.0), inside(0.0, 0.99);
+  for (int trial = 0; trial < 6; ++trial) {
+    const Mat3 axes = test::random_rotation(rng);
+    const Vec3 radii(radius(rng), radius(rng), radius(rng));
+    const Vec3 center(normal(rng) * 10, normal(rng) * 10, normal(rng) * 10);
+    std::vector<Vec3> p;
+    for (int k = 0; k < 3; ++k)
+      for (double s : {-1.0, 1.0}) p.push_back(center + s * radii[k] * axes.col(k));
+    for (int i = 0; i < 3000; ++i) {
+      const Vec3 d = Vec3(normal(rng), normal(rng), normal(rng)).normalized();
+      p.push_back(center + axes * radii.cwiseProduct(i % 10 == 0 ? d : inside(rng) * d));
+    }
+    std::shuffle(p.begin(), p.end(), rng);
+    const double optimum = 4.0 / 3.0 * M_PI * radii.prod();
+    const Ellipsoid e = bounding_ellipsoid(p, 0.01);
+    expect_contains_all(e, p);
+    EXPECT_GE(e.volume(), optimum * (1 - 1e-9)) << trial;
+    EXPECT_LE(e.volume(), optimum * 1.01 * (1 + 1e-12)) << trial;
   }
 }
 

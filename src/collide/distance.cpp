@@ -89,10 +89,8 @@ class DistanceSearch {
   // Splits the larger node (DescendRule, as collide) and pushes both child pairs that may still
   // matter, the one with the smaller bound last (visited first: the best shrinks sooner).
   void descend(const BoundedPair& np, const Node& na, const Node& nb, std::vector<BoundedPair>& stack) {
-    const bool split_a = nb.is_leaf() || (!na.is_leaf() && query_detail::descend_size(na.box, options_.descend) >=
-                                                               query_detail::descend_size(nb.box, options_.descend));
     BoundedPair first, second;
-    if (split_a) {
+    if (query_detail::splits_a(na, nb, options_.descend)) {
       first = {na.first, np.b, 0.0};
       second = {na.first + 1, np.b, 0.0};
     } else {

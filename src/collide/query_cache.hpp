@@ -308,8 +308,7 @@ template <class NodeTest, class LeafPair>
       continue;
     }
     // Split as traverse_pairs does (first child popped first: the same depth-first order).
-    const bool split_a = nb.is_leaf() || (!na.is_leaf() && descend_size(na.box, rule) >= descend_size(nb.box, rule));
-    if (split_a) {
+    if (splits_a(na, nb, rule)) {
       stack.push_back({na.first + 1, q.b, 0, 0, kFresh});
       stack.push_back({na.first, q.b, 0, 0, kFresh});
     } else {

@@ -71,6 +71,12 @@ using TestedPairStack = BasicPairStack<TestedPair>;
   return rule == DescendRule::larger_volume ? e.prod() : e.maxCoeff();
 }
 
+// Whether a pair of nodes (not both leaves) descends into A's children: A is the larger by the
+// rule, or B is a leaf.
+[[nodiscard]] inline bool splits_a(const Node& na, const Node& nb, DescendRule rule) {
+  return nb.is_leaf() || (!na.is_leaf() && descend_size(na.box, rule) >= descend_size(nb.box, rule));
+}
+
 // Walks the node pairs of non-empty trees ta x tb. Returns Walk::stop when `leaves` stopped it.
 // `stack` is scratch (cleared here, so a stack left over by a stopped walk is fine).
 template <class NodeTest, class LeafPair>
@@ -88,8 +94,7 @@ Walk traverse_pairs(const Tree& ta, const Tree& tb, DescendRule rule, PairStack&
       continue;
     }
     // Descend into the larger node (or the only internal one).
-    const bool split_a = nb.is_leaf() || (!na.is_leaf() && descend_size(na.box, rule) >= descend_size(nb.box, rule));
-    if (split_a) {
+    if (splits_a(na, nb, rule)) {
       stack.push({na.first + 1, np.b});
       stack.push({na.first, np.b});
     } else {
@@ -126,9 +131,8 @@ Walk traverse_pairs_tested(const Tree& ta, const Tree& tb, DescendRule rule, Tes
       if (leaves(np.a, np.b) == Walk::stop) return Walk::stop;
       continue;
     }
-    const bool split_a = nb.is_leaf() || (!na.is_leaf() && descend_size(na.box, rule) >= descend_size(nb.box, rule));
     TestedPair first, second;
-    if (split_a) {
+    if (splits_a(na, nb, rule)) {
       const auto [o0, o1] = test_children_a(na.first, np.b);
       first = {na.first, np.b, o0};
       second = {na.first + 1, np.b, o1};

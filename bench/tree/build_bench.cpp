@@ -235,7 +235,7 @@ int splits(const std::vector<std::filesystem::path>& meshes, unsigned threads) {
 // ------------------------------------------------------------------ auto threshold
 
 int auto_sweep(const std::vector<std::filesystem::path>& meshes, unsigned threads, int repeats) {
-  std::printf("auto = approx on nodes with >= T triangles, approx-kernel on nodes with >= M, pca below, the AABB\n"
+  std::printf("auto = approx on nodes with >= T triangles, approx-kernel on nodes with >= M, normal-bopt below, the AABB\n"
               "where smaller; time relative to pca, gain = 1 - sum vol / sum vol(pca), relative to approx's gain\n");
   std::printf("| mesh | T | M | seconds | time / pca | volume / pca | gain / approx's |\n|---|---|---|---|---|---|---|\n");
   for (const auto& path : meshes) {

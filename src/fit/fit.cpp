@@ -110,7 +110,7 @@ Obb fit_pca(std::span<const Vec3> points, std::span<const Vec3> triangle_corners
 // a few percent. approx's grid scan and a short axis improvement (quick_grid_search) then run on
 // those <= 98 points, and the extents are taken over the whole set, so the box contains it.
 // O(n): one pass for the covariance, one for the extremes, one for the extents; the PCA box is
-// kept when smaller. In the `auto` tree fitter (nodes of 32-2047 triangles) it keeps ~90% of
+// kept when smaller. In the `auto` tree fitter (nodes of 64-2047 triangles) it keeps ~90% of
 // approx's volume gain over pca at ~3x pca's build time (README, "Tree builder"). A k = 3 kernel (145 directions) or approx's full
 // search on the kernel (restarts, tilts) cost 15-30% more build time for +-2% of gain (measured
 // with tightbvh-build-bench; a tree's topology moves with its boxes, so it goes either way).

@@ -80,17 +80,35 @@ TEST(Ellipsoid, RegularTetrahedronGivesTheCircumsphere) {
   }
 }
 
+// A random ellipsoid (rotation, radii drawn by `radius`, center about 10 from the origin) and the
+// six ends of its axes. The caller's distributions are used, so each test's draws stay its own.
+struct GivenEllipsoid {
+  Mat3 axes;
+  Vec3 radii;
+  Vec3 center;
+  std::vector<Vec3> axis_points;
+};
+GivenEllipsoid random_ellipsoid(std::mt19937_64& rng, std::normal_distribution<double>& normal,
+                                std::uniform_real_distribution<double>& radius) {
+  GivenEllipsoid g;
+  g.axes = test::random_rotation(rng);
+  g.radii = Vec3(radius(rng), radius(rng), radius(rng));
+  g.center = Vec3(normal(rng) * 10, normal(rng) * 10, normal(rng) * 10);
+  for (int k = 0; k < 3; ++k)
+    for (double s : {-1.0, 1.0}) g.axis_points.push_back(g.center + s * g.radii[k] * g.axes.col(k));
+  return g;
+}
+
 TEST(Ellipsoid, PointsOnAGivenEllipsoid) {
   std::mt19937_64 rng(7);
   std::normal_distribution<double> normal;
   std::uniform_real_distribution<double> radius(0.2, 5.0);
   for (int trial = 0; trial < 10; ++trial) {
-    const Mat3 axes = test::random_rotation(rng);
-    const Vec3 radii(radius(rng), radius(rng), radius(rng));
-    const Vec3 center(normal(rng) * 10, normal(rng) * 10, normal(rng) * 10);
-    std::vector<Vec3> p;
-    for (int k = 0; k < 3; ++k)
-      for (double s : {-1.0, 1.0}) p.push_back(center + s * radii[k] * axes.col(k));
+    const GivenEllipsoid given = random_ellipsoid(rng, normal, radius);
+    const Mat3& axes = given.axes;
+    const Vec3& radii = given.radii;
+    const Vec3& center = given.center;
+    std::vector<Vec3> p = given.axis_points;
     while (p.size() < 200) {
       const Vec3 d = Vec3(normal(rng), normal(rng), normal(rng)).normalized();
       p.push_back(center + axes * radii.cwiseProduct(d));
@@ -115,12 +133,11 @@ TEST(Ellipsoid, InteriorPointsAndOrderDoNotChangeTheOptimum) {
   std::normal_distribution<double> normal;
   std::uniform_real_distribution<double> radius(0.2, 5.0), inside(0.0, 0.99);
   for (int trial = 0; trial < 6; ++trial) {
-    const Mat3 axes = test::random_rotation(rng);
-    const Vec3 radii(radius(rng), radius(rng), radius(rng));
-    const Vec3 center(normal(rng) * 10, normal(rng) * 10, normal(rng) * 10);
-    std::vector<Vec3> p;
-    for (int k = 0; k < 3; ++k)
-      for (double s : {-1.0, 1.0}) p.push_back(center + s * radii[k] * axes.col(k));
+    const GivenEllipsoid given = random_ellipsoid(rng, normal, radius);
+    const Mat3& axes = given.axes;
+    const Vec3& radii = given.radii;
+    const Vec3& center = given.center;
+    std::vector<Vec3> p = given.axis_points;
     for (int i = 0; i < 3000; ++i) {
       const Vec3 d = Vec3(normal(rng), normal(rng), normal(rng)).normalized();
       p.push_back(center + axes * radii.cwiseProduct(i % 10 == 0 ? d : inside(rng) * d));

@@ -194,19 +194,25 @@ bool same_nodes(const Tree& a, const Tree& b) {
 
 TEST(BuildDeterminism, SameTreeForAnyThreadCount) {
   static_assert(sizeof(Node) == 68, "no padding: Node compares byte-wise");
-  // Large enough that the top levels run level-parallel and the subtrees as separate tasks.
+  // Large enough that the top nodes are tasks of their own and the subtrees below the grain too.
   const Mesh mesh = test::random_soup(20000, 5, 0.05, 0.05);
   const Mesh knot = load_relative("meshes/knot1.off");
-  // auto with a high threshold: approx at the top levels (run level-parallel), pca below.
+  // auto with a high threshold: approx at the top levels (slow tasks beside fast ones), pca below.
   std::vector<Fitter> fitters{FitMethod::aabb, FitMethod::pca, AutoFit{.tight_min_triangles = 3000}};
   for (const Fitter& fitter : fitters) {
     if (!available(fitter)) continue;
     for (const SplitMethod split : {SplitMethod::rapid, SplitMethod::binned}) {
       for (const Mesh* m : {&mesh, &knot}) {
-        const Tree one = build(*m, with(fitter, split, 1, 1));
-        for (const unsigned threads : {2u, 4u, 7u}) {
-          const Tree many = build(*m, with(fitter, split, 1, threads));
-          EXPECT_TRUE(same_nodes(one, many)) << to_string(fitter) << " " << to_string(split) << " threads " << threads;
+        // leaf_size 3: subtrees use fewer slots than reserved, and the gaps are closed.
+        for (const std::uint32_t leaf_size : {1u, 3u}) {
+          const Tree one = build(*m, with(fitter, split, leaf_size, 1));
+          for (const unsigned threads : {2u, 4u, 7u}) {
+            const Tree many = build(*m, with(fitter, split, leaf_size, threads));
+            EXPECT_TRUE(same_nodes(one, many)) << to_string(fitter) << " " << to_string(split) << " leaf size "
+                                               << leaf_size << " threads " << threads;
+          }
+          const TreeCheck check = validate(one, *m);
+          EXPECT_TRUE(check.ok()) << to_string(fitter) << " leaf size " << leaf_size << "\n" << check.summary();
         }
       }
     }

@@ -25,7 +25,7 @@ std::vector<Pose> read_poses(const std::string& path) {
   if (!in) throw InputError(path + ": cannot open");
   std::vector<Pose> poses;
   for (std::string line; std::getline(in, line);)
-    if (!line.empty()) poses.push_back(parse_pose(line));
+    if (!line.empty() && line[0] != '#') poses.push_back(parse_pose(line));  // tightbvh-bench --write-poses
   return poses;
 }
 

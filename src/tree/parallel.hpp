@@ -2,9 +2,9 @@
 // A minimal fork-join helper for the builder, refit and collide_batch (TBB is not a dependency),
 // on up to `threads` std::jthreads, each with its own long-lived scratch buffers. The results must
 // not depend on which worker ran what.
-// - run(count, fn) calls fn(i, scratch) for i in [0, count). When calls throw, the exception of
-//   the lowest failing index is rethrown: every lower index was claimed before it and still runs
-//   to the end, whatever the timing.
+// - run(count, fn, chunk) calls fn(i, scratch) for i in [0, count), claiming `chunk` indices at a
+//   time. When calls throw, the exception of the lowest failing index is rethrown: every lower
+//   index was claimed before it and still runs to the end, whatever the timing.
 // - run_tasks(first, before, fn) runs a task and every task it spawns (fn(task, scratch, spawn)),
 //   always the waiting task that comes first in `before` (a strict total order): no barrier
 //   anywhere, a worker only waits when nothing is queued. A task that throws spawns nothing and
@@ -29,9 +29,13 @@ class WorkerPool {
  public:
   explicit WorkerPool(unsigned threads) : scratch_(std::max(1u, threads)) {}
 
+  // `chunk`: indices claimed at a time. Cheap calls (a batch of microsecond queries) need more
+  // than one: with one, the two workers alternate indices, and both the shared counter and the
+  // neighbouring result slots they write bounce between the cores on every call.
   template <class Fn>
-  void run(std::size_t count, Fn&& fn) {
-    const std::size_t workers = std::min<std::size_t>(scratch_.size(), count);
+  void run(std::size_t count, Fn&& fn, std::size_t chunk = 1) {
+    chunk = std::max<std::size_t>(chunk, 1);
+    const std::size_t workers = std::min<std::size_t>(scratch_.size(), (count + chunk - 1) / chunk);
     if (workers <= 1) {
       for (std::size_t i = 0; i < count; ++i) fn(i, scratch_[0]);
       return;
@@ -46,13 +50,17 @@ class WorkerPool {
       pool.reserve(workers);
       for (std::size_t w = 0; w < workers; ++w) {
         pool.emplace_back([&, w] {
-          for (std::size_t i; !failed.load(std::memory_order_relaxed) && (i = next.fetch_add(1)) < count;) {
-            try {
-              fn(i, scratch_[w]);
-            } catch (...) {
-              const std::lock_guard lock(mutex);
-              if (i < error_index) error_index = i, error = std::current_exception();
-              failed = true;
+          // A claimed chunk runs to its end even after a failure, so every index below the
+          // lowest failing one still runs.
+          for (std::size_t begin; !failed.load(std::memory_order_relaxed) && (begin = next.fetch_add(chunk)) < count;) {
+            for (std::size_t i = begin; i < std::min(begin + chunk, count); ++i) {
+              try {
+                fn(i, scratch_[w]);
+              } catch (...) {
+                const std::lock_guard lock(mutex);
+                if (i < error_index) error_index = i, error = std::current_exception();
+                failed = true;
+              }
             }
           }
         });

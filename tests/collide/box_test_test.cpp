@@ -49,7 +49,10 @@ struct Case {
 };
 
 MappedBox mapped(const CompactBox& b, const Pose& rel) {
-  return {rel.rotation * b.axes_d(), rel.rotation * b.center_d() + rel.translation};
+  MappedBox m;
+  m.axes = rel.rotation * b.axes_d();
+  m.center = rel.rotation * b.center_d() + rel.translation;
+  return m;
 }
 
 // Random boxes; half of them then slid along a random direction to the last translation at which

@@ -18,16 +18,22 @@ struct Counter {
 
 TEST(WorkerPool, RunsEveryIndexOnceWithTheWorkersScratch) {
   for (const unsigned threads : {1u, 2u, 3u, 8u}) {
-    detail::WorkerPool<Counter> pool(threads);
-    std::vector<std::atomic<int>> seen(100);
-    std::atomic<int> calls{0};
-    pool.run(seen.size(), [&](std::size_t i, Counter& scratch) {
-      ++seen[i];
-      ++scratch.calls;
-      ++calls;
-    });
-    for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], 1) << "threads " << threads << " index " << i;
-    EXPECT_EQ(calls, 100);
+    for (const std::size_t chunk : {1u, 3u, 64u, 200u}) {
+      detail::WorkerPool<Counter> pool(threads);
+      std::vector<std::atomic<int>> seen(100);
+      std::atomic<int> calls{0};
+      pool.run(
+          seen.size(),
+          [&](std::size_t i, Counter& scratch) {
+            ++seen[i];
+            ++scratch.calls;
+            ++calls;
+          },
+          chunk);
+      for (std::size_t i = 0; i < seen.size(); ++i)
+        EXPECT_EQ(seen[i], 1) << "threads " << threads << " chunk " << chunk << " index " << i;
+      EXPECT_EQ(calls, 100);
+    }
   }
 }
 
@@ -37,18 +43,25 @@ TEST(WorkerPool, RunsEveryIndexOnceWithTheWorkersScratch) {
 TEST(WorkerPool, RethrowsTheErrorOfTheLowestFailingIndex) {
   for (const unsigned threads : {2u, 3u, 4u}) {
     for (int round = 0; round < 3; ++round) {
-      detail::WorkerPool<Counter> pool(threads);
-      try {
-        pool.run(40, [&](std::size_t i, Counter&) {
-          if (i == 1) {
-            std::this_thread::sleep_for(std::chrono::milliseconds(30));
-            throw std::runtime_error("index 1");
-          }
-          if (i == 2) throw std::runtime_error("index 2");
-        });
-        ADD_FAILURE() << "no exception, threads " << threads;
-      } catch (const std::runtime_error& e) {
-        EXPECT_EQ(std::string(e.what()), "index 1") << "threads " << threads << " round " << round;
+      // chunk 1: the failures in different claims; chunk 4: index 9 in a later chunk than 1.
+      for (const std::size_t chunk : {1u, 4u}) {
+        const std::size_t other = chunk == 1 ? 2 : 9;
+        detail::WorkerPool<Counter> pool(threads);
+        try {
+          pool.run(
+              40,
+              [&](std::size_t i, Counter&) {
+                if (i == 1) {
+                  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+                  throw std::runtime_error("index 1");
+                }
+                if (i == other) throw std::runtime_error("index " + std::to_string(other));
+              },
+              chunk);
+          ADD_FAILURE() << "no exception, threads " << threads;
+        } catch (const std::runtime_error& e) {
+          EXPECT_EQ(std::string(e.what()), "index 1") << "threads " << threads << " chunk " << chunk << " round " << round;
+        }
       }
     }
   }

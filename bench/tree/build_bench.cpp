@@ -6,6 +6,9 @@
 //       ratios, sums of node volumes and bytes per triangle (--no-tight: pca vs FCL only).
 //   tightbvh-build-bench --splits [MESH...]      sum of volumes per split method
 //   tightbvh-build-bench --auto-sweep [MESH...]  time and volume of auto per pair of thresholds
+//   tightbvh-build-bench --thread-scaling [MESH...] [--fitter F] [--threads T] [--repeats R]
+//       wall time of one build on 1 thread and on T (default 2), alternating, medians of R
+//       (default 7), the speed-up, and whether the trees are the same bit for bit.
 //   tightbvh-build-bench --scale MESH --triangles N --fitter F [--threads T]
 //       subdivides MESH 1->4 until it has >= N triangles, builds once, prints time and peak
 //       memory (getrusage; run one fitter per process to get each fitter's peak).
@@ -14,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/math/bv/OBB.h>
 #include <fcl/math/bv/OBBRSS.h>
@@ -285,6 +289,36 @@ int scale(const std::filesystem::path& path, std::size_t triangles, const std::s
   return 0;
 }
 
+int thread_scaling(const std::vector<std::filesystem::path>& meshes, const std::string& fitter_name,
+                   unsigned threads, int repeats) {
+  const auto fitter = parse_fitter(fitter_name);
+  if (!fitter) throw std::runtime_error("unknown fitter " + fitter_name);
+  std::printf("| mesh | triangles | fitter | 1 thread s | %u threads s | speed-up | same tree |\n|---|---|---|---|---|---|---|\n",
+              threads);
+  for (const auto& path : meshes) {
+    const Mesh mesh = load_mesh(path.string());
+    std::vector<double> one, many;
+    bool same = true;
+    for (int r = 0; r < repeats; ++r) {  // alternating, so a change of machine load hits both
+      Tree trees[2];
+      for (int k = 0; k < 2; ++k) {
+        const auto start = Clock::now();
+        trees[k] = build(mesh, {.fitter = *fitter, .threads = k == 0 ? 1u : threads});
+        (k == 0 ? one : many).push_back(seconds_since(start));
+      }
+      same = same && trees[0].triangle_order == trees[1].triangle_order &&
+             trees[0].nodes.size() == trees[1].nodes.size() &&
+             std::memcmp(trees[0].nodes.data(), trees[1].nodes.data(), trees[0].nodes.size() * sizeof(Node)) == 0;
+    }
+    std::sort(one.begin(), one.end());
+    std::sort(many.begin(), many.end());
+    const double t1 = one[one.size() / 2], tn = many[many.size() / 2];
+    std::printf("| %s | %zu | %s | %.4f | %.4f | %.2f | %s |\n", name_of(path).c_str(), mesh.triangles.size(),
+                fitter_name.c_str(), t1, tn, t1 / tn, same ? "yes" : "NO");
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -294,7 +328,7 @@ int main(int argc, char** argv) {
     int repeats = 3;
     unsigned threads = 1;
     std::size_t triangles = 1000000;
-    bool check = false, tight = true;
+    bool check = false, tight = true, repeats_given = false, threads_given = false, fitter_given = false;
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
       const auto next = [&]() -> std::string {
@@ -304,10 +338,11 @@ int main(int argc, char** argv) {
       if (a == "--splits") mode = "splits";
       else if (a == "--auto-sweep") mode = "auto";
       else if (a == "--scale") mode = "scale";
-      else if (a == "--repeats") repeats = std::stoi(next());
-      else if (a == "--threads") threads = static_cast<unsigned>(std::stoul(next()));
+      else if (a == "--thread-scaling") mode = "threads";
+      else if (a == "--repeats") repeats = std::stoi(next()), repeats_given = true;
+      else if (a == "--threads") threads = static_cast<unsigned>(std::stoul(next())), threads_given = true;
       else if (a == "--json") json_out = next();
-      else if (a == "--fitter") fitter = next();
+      else if (a == "--fitter") fitter = next(), fitter_given = true;
       else if (a == "--triangles") triangles = std::stoul(next());
       else if (a == "--validate") check = true;
       else if (a == "--no-tight") tight = false;  // compare: skip the (slow) approx and auto builds
@@ -318,6 +353,8 @@ int main(int argc, char** argv) {
     if (mode == "splits") return splits(meshes, threads);
     if (mode == "auto") return auto_sweep(meshes, threads, repeats);
     if (mode == "scale") return scale(meshes.at(0), triangles, fitter, threads, check);
+    if (mode == "threads") return thread_scaling(meshes, fitter_given ? fitter : "auto",
+                                                 threads_given ? threads : 2, repeats_given ? repeats : 7);
     return compare(meshes, repeats, threads, json_out, tight);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "tightbvh-build-bench: error: %s\n", e.what());

@@ -34,6 +34,10 @@ struct AutoFit {
   FitMethod medium = FitMethod::approx_kernel;
   FitMethod cheap = FitMethod::normal_bopt;
   bool or_aabb = true;  // keep the AABB instead when it is smaller (it costs one pass)
+  // `tight` nodes with more distinct vertices than this search their box orientation on the
+  // column extremes of a 64 x 64 grid (at most 8192 points; Barequet & Har-Peled 6.3 approximate
+  // the set on a grid before hulling it) and measure the extents over all vertices; 0: never.
+  std::uint32_t column_extremes_above = 65536;
   friend bool operator==(const AutoFit&, const AutoFit&) = default;
 };
 

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "huge_pages.hpp"
 #include "parallel.hpp"
 #include "splitter.hpp"
 #include "node_fit.hpp"
@@ -66,7 +67,10 @@ struct Scratch {
 class Builder {
  public:
   Builder(const Mesh& mesh, const BuildOptions& options, std::vector<Index>& order)
-      : mesh_(mesh), options_(options), order_(order), corners_(triangle_corners(mesh)) {}
+      : mesh_(mesh), options_(options), order_(order) {
+    detail::reserve_huge_pages(corners_, 3 * order.size());
+    triangle_corners(mesh, order, corners_);  // order is still the identity
+  }
 
   // Fits the node's box; returns the split point (begin < mid < end), or `end` for a leaf.
   Index process(Node& node, Index begin, Index end, Scratch& scratch) {
@@ -141,94 +145,55 @@ class Builder {
   std::vector<Vec3> corners_;
 };
 
-// Subtrees at most this large are built by one task. It depends on the triangle count only,
-// never on the thread count, so the node numbering (and thus the tree) is the same for any
-// number of threads.
+// Subtrees at most this large are built by one task, sequentially; above it every node is a task
+// of its own. The grain only sets how the work is shared out: the layout below fixes every node's
+// slot from its triangle range alone, so the tree is the same for any grain and thread count.
 [[nodiscard]] Index task_grain(std::size_t triangles) {
   return static_cast<Index>(std::max<std::size_t>(1024, triangles / 128));
 }
 
-// Phase 1, the top levels, breadth first: the nodes of one level are independent, so their fits
-// run in parallel; child slots are then allocated in level order, which fixes the numbering.
-// Fills tree.nodes with those levels; returns the ranges below the grain, one task each.
-std::vector<Pending> build_top_levels(Builder& builder, Index n, detail::WorkerPool<Scratch>& pool, Tree& tree) {
-  const Index grain = task_grain(n);
-  tree.nodes.emplace_back();
-  std::vector<Pending> level{{0, 0, n}};
-  std::vector<Pending> tasks;
-  std::vector<Index> mids;
-  while (!level.empty()) {
-    std::vector<Pending> big;
-    for (const Pending& p : level) (p.end - p.begin > grain ? big : tasks).push_back(p);
-    mids.assign(big.size(), 0);
-    pool.run(big.size(), [&](std::size_t i, Scratch& scratch) {
-      mids[i] = builder.process(tree.nodes[big[i].node], big[i].begin, big[i].end, scratch);
-    });
-    level.clear();
-    for (std::size_t i = 0; i < big.size(); ++i) {
-      Node& node = tree.nodes[big[i].node];
-      if (mids[i] == big[i].end) continue;  // a leaf (leaf_size > grain)
-      node.first = static_cast<Index>(tree.nodes.size());
-      node.count = 0;
-      level.push_back({node.first, big[i].begin, mids[i]});
-      level.push_back({node.first + 1, mids[i], big[i].end});
-      tree.nodes.emplace_back();
-      tree.nodes.emplace_back();
-    }
-  }
-  return tasks;
-}
-
-// Where phase 2 put each task's subtree: nodes [offset[i], offset[i] + used[i]).
-struct TaskSlices {
-  std::vector<std::size_t> offset;  // tasks.size() + 1 entries
-  std::vector<std::size_t> used;
+// A subtree still to build: its root goes to nodes[slot], its descendants to the slots from
+// `next` on. A subtree of m triangles has at most 2m - 1 nodes (exactly that for leaf_size 1), so
+// a node's child pair takes slots next, next + 1, the left child's descendants the 2m_left - 2
+// slots after them and the right child's the rest: depth first, each child pair adjacent, as
+// build_subtree lays out a subtree; no slot depends on the order in which the tasks ran.
+struct Job {
+  Index slot;
+  std::size_t next;
+  Index begin;
+  Index end;
 };
 
-// Phase 2, the subtrees below the grain: one task each, largest first for load balance. A
-// subtree of m triangles has at most 2m - 1 nodes (exactly that for leaf_size 1): each task
-// writes its nodes directly into its own slice of the final array, at an offset fixed by the
-// task order.
-TaskSlices build_subtrees(Builder& builder, const std::vector<Pending>& tasks, detail::WorkerPool<Scratch>& pool,
-                          Tree& tree) {
-  TaskSlices slices;
-  std::vector<std::size_t>& offset = slices.offset;
-  offset.assign(tasks.size() + 1, tree.nodes.size());
-  for (std::size_t i = 0; i < tasks.size(); ++i)
-    offset[i + 1] = offset[i] + 2 * std::size_t{tasks[i].end - tasks[i].begin} - 2;
-  tree.nodes.resize(offset.back());
-  slices.used.resize(tasks.size());
-  std::vector<std::size_t> by_size(tasks.size());
-  for (std::size_t i = 0; i < by_size.size(); ++i) by_size[i] = i;
-  std::stable_sort(by_size.begin(), by_size.end(), [&](std::size_t a, std::size_t b) {
-    return tasks[a].end - tasks[a].begin > tasks[b].end - tasks[b].begin;
-  });
-  pool.run(tasks.size(), [&](std::size_t k, Scratch& scratch) {
-    const std::size_t i = by_size[k];
-    const Pending& p = tasks[i];
-    slices.used[i] = builder.build_subtree(p.node, p.begin, p.end, tree.nodes, offset[i], scratch) - offset[i];
-  });
-  return slices;
+// Largest subtree first (load balance: the big fits start early), then by position: a strict
+// total order, as run_tasks needs.
+[[nodiscard]] bool runs_before(const Job& a, const Job& b) {
+  const Index size_a = a.end - a.begin;
+  const Index size_b = b.end - b.begin;
+  return size_a != size_b ? size_a > size_b : a.begin < b.begin;
 }
 
-// Phase 3: with leaf_size > 1 the slices have unused tails: close the gaps, in task order.
-void compact(const std::vector<Pending>& tasks, const TaskSlices& slices, Tree& tree) {
-  std::size_t write = slices.offset[0];
-  for (std::size_t i = 0; i < tasks.size(); ++i) {
-    const std::size_t shift = slices.offset[i] - write;
-    if (shift != 0) {
-      Node& root = tree.nodes[tasks[i].node];
-      if (!root.is_leaf()) root.first -= static_cast<Index>(shift);
-      for (std::size_t k = slices.offset[i]; k < slices.offset[i] + slices.used[i]; ++k) {
-        Node node = tree.nodes[k];
-        if (!node.is_leaf()) node.first -= static_cast<Index>(shift);
-        tree.nodes[k - shift] = node;
-      }
-    }
-    write += slices.used[i];
+// With leaf_size > 1 subtrees use fewer slots than reserved: drop the unused ones, keeping the
+// order (children stay after their parent, sibling pairs adjacent).
+void close_gaps(Tree& tree) {
+  std::vector<Node>& nodes = tree.nodes;
+  std::vector<Index> new_index(nodes.size(), 0);
+  std::vector<char> used(nodes.size(), 0);
+  used[0] = 1;
+  Index count = 0;
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    if (!used[k]) continue;
+    new_index[k] = count++;
+    if (!nodes[k].is_leaf()) used[nodes[k].first] = used[nodes[k].first + 1] = 1;
   }
-  tree.nodes.resize(write);
-  if (tree.nodes.capacity() > write + write / 4) tree.nodes.shrink_to_fit();
+  if (count == nodes.size()) return;
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    if (!used[k]) continue;
+    Node node = nodes[k];
+    if (!node.is_leaf()) node.first = new_index[node.first];
+    nodes[new_index[k]] = node;
+  }
+  nodes.resize(count);
+  nodes.shrink_to_fit();
 }
 
 }  // namespace
@@ -252,9 +217,23 @@ Tree build(const Mesh& mesh, const BuildOptions& options) {
       options.threads != 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
   detail::WorkerPool<Scratch> pool(threads);
 
-  const std::vector<Pending> tasks = build_top_levels(builder, n, pool, tree);
-  const TaskSlices slices = build_subtrees(builder, tasks, pool, tree);
-  compact(tasks, slices, tree);
+  detail::reserve_huge_pages(tree.nodes, 2 * std::size_t{n} - 1);
+  tree.nodes.resize(2 * std::size_t{n} - 1);
+  const Index grain = task_grain(n);
+  pool.run_tasks(Job{0, 1, 0, n}, runs_before, [&](const Job& job, Scratch& scratch, auto spawn) {
+    if (job.end - job.begin <= grain) {
+      (void)builder.build_subtree(job.slot, job.begin, job.end, tree.nodes, job.next, scratch);
+      return;
+    }
+    Node& node = tree.nodes[job.slot];
+    const Index mid = builder.process(node, job.begin, job.end, scratch);
+    if (mid == job.end) return;  // a leaf (leaf_size > grain)
+    node.first = static_cast<Index>(job.next);
+    node.count = 0;
+    spawn(Job{node.first, job.next + 2, job.begin, mid});
+    spawn(Job{node.first + 1, job.next + 2 * std::size_t{mid - job.begin}, mid, job.end});
+  });
+  if (options.leaf_size > 1) close_gaps(tree);
   return tree;
 }
 

@@ -2,16 +2,18 @@
 // Internal (builder and refit): how one node's box is fitted, so that a refitted tree gets exactly
 // the boxes the builder gives it: the closed-form box of one triangle, the fitter's method for
 // the node's size, and `auto`'s AABB alternative.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <optional>
-
 #include <span>
 #include <variant>
+#include <vector>
 
 #include "tightbvh/build.hpp"
 #include "tightbvh/fit.hpp"
 #include "tightbvh/obb.hpp"
+#include "../fit/frame.hpp"
 
 namespace tightbvh::detail {
 
@@ -49,6 +51,36 @@ namespace tightbvh::detail {
   return triangles >= a.medium_min_triangles ? a.medium : a.cheap;
 }
 
+// For each of kColumns x kColumns columns of the points' axis-aligned bounds, taken along the
+// longest axis, the lowest and the highest point along it. Every point lies between its column's
+// two, so the hull of these is within one column width (1/64 of the two shorter extents) of the
+// set's hull: a coarse version of Barequet & Har-Peled's grid approximation (Section 6.3), built
+// in one pass, whose hull costs a few milliseconds where the hull of 600k vertices took 1.6 s.
+inline void column_extremes(std::span<const Vec3> points, std::vector<Vec3>& out) {
+  constexpr int kColumns = 64;
+  Vec3 lo = points[0], hi = points[0];
+  for (const Vec3& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  int along = 0;
+  (hi - lo).maxCoeff(&along);
+  const int u = (along + 1) % 3, v = (along + 2) % 3;
+  const double su = kColumns / std::max(hi[u] - lo[u], 1e-300), sv = kColumns / std::max(hi[v] - lo[v], 1e-300);
+  std::vector<int> low(kColumns * kColumns, -1), high(kColumns * kColumns, -1);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3& p = points[i];
+    const int cu = std::clamp(static_cast<int>((p[u] - lo[u]) * su), 0, kColumns - 1);
+    const int cv = std::clamp(static_cast<int>((p[v] - lo[v]) * sv), 0, kColumns - 1);
+    const int c = cu * kColumns + cv;
+    if (low[c] < 0 || p[along] < points[low[c]][along]) low[c] = static_cast<int>(i);
+    if (high[c] < 0 || p[along] > points[high[c]][along]) high[c] = static_cast<int>(i);
+  }
+  out.clear();
+  for (int c = 0; c < kColumns * kColumns; ++c) {
+    if (low[c] < 0) continue;
+    out.push_back(points[low[c]]);
+    if (high[c] != low[c]) out.push_back(points[high[c]]);
+  }
+}
+
 // The box of a node given by its triangles' corners (three per triangle). `vertices()` returns
 // the node's distinct vertices (or an empty span when the caller has none): the hull-based
 // fitters work on them, pca on the corners; it is only called when needed.
@@ -70,7 +102,15 @@ template <class Vertices>
     box = fit_triangles(corners, fit, workspace);
   } else {
     const std::span<const Vec3> distinct = vertices();
-    box = distinct.empty() ? fit_triangles(corners, fit, workspace) : fit_triangles(corners, distinct, fit, workspace);
+    const auto* a = std::get_if<AutoFit>(&fitter);
+    if (a && method == a->tight && a->column_extremes_above != 0 && distinct.size() > a->column_extremes_above) {
+      std::vector<Vec3> extremes;
+      column_extremes(distinct, extremes);
+      const Obb oriented = fit_points(extremes, fit, workspace);
+      box = fit_detail::box_with_axes(distinct, oriented.axes, oriented.center);  // contains every vertex
+    } else {
+      box = distinct.empty() ? fit_triangles(corners, fit, workspace) : fit_triangles(corners, distinct, fit, workspace);
+    }
   }
   if (const auto* a = std::get_if<AutoFit>(&fitter); a && a->or_aabb && method != FitMethod::aabb) {
     // The axis-aligned box costs one pass and is often the smaller one (axis-aligned CAD parts,

@@ -8,6 +8,8 @@
 #include "build_test_util.hpp"
 #include "tightbvh/serialize.hpp"
 #include "tightbvh/validate_tree.hpp"
+#include "fit/frame.hpp"
+#include "tree/node_fit.hpp"
 
 namespace tightbvh {
 namespace {
@@ -194,19 +196,25 @@ bool same_nodes(const Tree& a, const Tree& b) {
 
 TEST(BuildDeterminism, SameTreeForAnyThreadCount) {
   static_assert(sizeof(Node) == 68, "no padding: Node compares byte-wise");
-  // Large enough that the top levels run level-parallel and the subtrees as separate tasks.
+  // Large enough that the top nodes are tasks of their own and the subtrees below the grain too.
   const Mesh mesh = test::random_soup(20000, 5, 0.05, 0.05);
   const Mesh knot = load_relative("meshes/knot1.off");
-  // auto with a high threshold: approx at the top levels (run level-parallel), pca below.
+  // auto with a high threshold: approx at the top levels (slow tasks beside fast ones), pca below.
   std::vector<Fitter> fitters{FitMethod::aabb, FitMethod::pca, AutoFit{.tight_min_triangles = 3000}};
   for (const Fitter& fitter : fitters) {
     if (!available(fitter)) continue;
     for (const SplitMethod split : {SplitMethod::rapid, SplitMethod::binned}) {
       for (const Mesh* m : {&mesh, &knot}) {
-        const Tree one = build(*m, with(fitter, split, 1, 1));
-        for (const unsigned threads : {2u, 4u, 7u}) {
-          const Tree many = build(*m, with(fitter, split, 1, threads));
-          EXPECT_TRUE(same_nodes(one, many)) << to_string(fitter) << " " << to_string(split) << " threads " << threads;
+        // leaf_size 3: subtrees use fewer slots than reserved, and the gaps are closed.
+        for (const std::uint32_t leaf_size : {1u, 3u}) {
+          const Tree one = build(*m, with(fitter, split, leaf_size, 1));
+          for (const unsigned threads : {2u, 4u, 7u}) {
+            const Tree many = build(*m, with(fitter, split, leaf_size, threads));
+            EXPECT_TRUE(same_nodes(one, many)) << to_string(fitter) << " " << to_string(split) << " leaf size "
+                                               << leaf_size << " threads " << threads;
+          }
+          const TreeCheck check = validate(one, *m);
+          EXPECT_TRUE(check.ok()) << to_string(fitter) << " leaf size " << leaf_size << "\n" << check.summary();
         }
       }
     }
@@ -320,6 +328,39 @@ TEST(BuildOptionsTest, AutoUsesTheMediumFitterBetweenTheThresholds) {
     if (in_medium || ranges[i].size() > 1) EXPECT_EQ(tree.nodes[i].box.axes.isIdentity(), in_medium) << "node " << i;
   }
   EXPECT_GT(medium, 4u);
+}
+
+// The tight tier's large nodes orient their box on column extremes (AutoFit::column_extremes_above):
+// on the root of a mesh subdivided twice (midpoints: many points on the hull's faces, the case
+// that made the full hull slow), a box oriented on the extremes and measured over all vertices is
+// within 2% of approx's box on the full hull, from a small fraction of the points. The bound
+// fails if the extremes missed a side of the set (e.g. only the low points were kept).
+TEST(BuildOptionsTest, ColumnExtremesOrientAsWellAsTheFullHull) {
+  for (const char* name : {"meshes/elephant.off", "meshes/knot1.off"}) {
+    const Mesh mesh = subdivide_midpoints(subdivide_midpoints(load_relative(name)));
+    std::vector<Vec3> extremes;
+    detail::column_extremes(mesh.vertices, extremes);
+    EXPECT_LT(extremes.size(), mesh.vertices.size() / 4) << name;
+    const FitOptions approx{.method = FitMethod::approx};
+    const Obb full = fit_points(mesh.vertices, approx);
+    const Obb oriented = fit_points(extremes, approx);
+    const Obb box = fit_detail::box_with_axes(mesh.vertices, oriented.axes, oriented.center);
+    EXPECT_LT(box.volume(), 1.02 * full.volume()) << name;
+    for (const Vec3& v : mesh.vertices) ASSERT_TRUE(box.contains(v, 1e-9)) << name;
+  }
+}
+
+// With the threshold lowered to 200 vertices the extremes orient every tight node of the shipped
+// meshes (down to 400 triangles): every box still contains its node.
+TEST(BuildOptionsTest, ColumnExtremesTreesAreValid) {
+  for (const char* name : {"meshes/elephant.off", "meshes/knot1.off"}) {
+    const Mesh mesh = load_relative(name);
+    const Tree full = build(mesh, with(AutoFit{.tight_min_triangles = 400, .column_extremes_above = 0}));
+    const Tree tree = build(mesh, with(AutoFit{.tight_min_triangles = 400, .column_extremes_above = 200}));
+    const TreeCheck check = validate(tree, mesh);
+    EXPECT_TRUE(check.ok()) << name << "\n" << check.summary();
+    EXPECT_FALSE(same_nodes(full, tree)) << name << ": the threshold changed nothing";
+  }
 }
 
 // ------------------------------------------------------------------ validate finds problems

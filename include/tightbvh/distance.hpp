@@ -5,12 +5,15 @@
 // reports a hit (some triangle pair touches), > 0 otherwise. Both use the same frame: B's
 // vertices mapped into A's mesh frame by relative_pose(pa, pb) (collide.hpp).
 //
-// Traversal: the descent of PQP (Larsen et al. 2000), depth first over node pairs, with a lower
-// bound per node pair (obb_distance.hpp, minus the allowance of collide()'s box test for rounding
-// and the float boxes' axes) and the pair with the smaller bound visited first; a node pair
-// is pruned when its bound cannot beat the best triangle pair so far (allowing for the requested
-// error). The walk ends at once when a touching pair (distance 0) is found. B's boxes are mapped
-// into A's frame lazily once per query and node (the QueryWorkspace's cache).
+// Traversal, in two phases. First collide()'s first_hit walk (its box test and touching triangle
+// test): touching meshes cost about what collide() costs, and the distance is 0 exactly when
+// collide() hits. It sets aside the node pairs whose boxes are apart and the leaf pairs that do
+// not touch; from those, PQP's bound-and-prune search (Larsen et al. 2000) but best first (the
+// node pair with the smallest bound split next), with a lower bound per node pair
+// (obb_distance.hpp, minus the allowance of collide()'s box test for rounding and the float
+// boxes' axes); the search ends when the smallest bound cannot beat the best triangle pair so far
+// (allowing for the requested error). B's boxes are mapped into A's frame lazily once per
+// query and node (the QueryWorkspace's cache).
 //
 // Thread safety as collide(): any number of queries may run concurrently, each with its own
 // QueryWorkspace.
@@ -45,8 +48,8 @@ struct DistanceOptions {
 };
 
 struct DistanceStats {
-  std::uint64_t node_pairs = 0;      // node pairs whose lower bound was computed
-  std::uint64_t triangle_pairs = 0;  // triangle-triangle distances computed
+  std::uint64_t node_pairs = 0;      // node pairs box-tested (touching phase) or bounded (descent)
+  std::uint64_t triangle_pairs = 0;  // triangle pairs tested for touching or measured
 
   friend bool operator==(const DistanceStats&, const DistanceStats&) = default;
 };

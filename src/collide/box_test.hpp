@@ -42,6 +42,16 @@ struct LaneBox {
 inline double lane_abs(double x) { return std::abs(x); }
 inline bool lane_gt(double x, double y) { return x > y; }
 inline bool all_lanes(bool m) { return m; }
+template <class V>
+V lane_splat(double x);
+template <>
+inline double lane_splat<double>(double x) {
+  return x;
+}
+inline double lane_max(double x, double y) { return x > y ? x : y; }
+inline double lane_sqrt(double x) { return std::sqrt(x); }
+// x <= y ? p : q, lane by lane.
+inline double lane_select_le(double x, double y, double p, double q) { return x <= y ? p : q; }
 
 // box_separated: the lanes whose boxes some axis separates by more than `margin` (obb_overlap()'s
 // negation, lane by lane). Stops at the first axis after which every lane is separated.
@@ -138,17 +148,22 @@ inline bool all_lanes(Mask2 m) { return _mm_movemask_pd(m.v) == 3; }
 
 inline F64x2 lanes(double x0, double x1) { return {_mm_set_pd(x1, x0)}; }
 inline F64x2 both(double x) { return {_mm_set1_pd(x)}; }
-#endif
+inline F64x2 operator/(F64x2 x, F64x2 y) { return {_mm_div_pd(x.v, y.v)}; }
+template <>
+inline F64x2 lane_splat<F64x2>(double x) {
+  return both(x);
+}
+inline F64x2 lane_max(F64x2 x, F64x2 y) { return {_mm_max_pd(x.v, y.v)}; }
+inline F64x2 lane_sqrt(F64x2 x) { return {_mm_sqrt_pd(x.v)}; }
+inline F64x2 lane_select_le(F64x2 x, F64x2 y, F64x2 p, F64x2 q) {
+  const __m128d m = _mm_cmple_pd(x.v, y.v);
+  return {_mm_or_pd(_mm_and_pd(m, p.v), _mm_andnot_pd(m, q.v))};
+}
 
-// Two pairs: `a0` and `a1` against B's mapped `mb0`, `mb1` (half extents eb0, eb1). Returns
-// {box_overlap(a0, mb0, eb0), box_overlap(a1, mb1, eb1)}. One side is usually the same box
-// (a node against both children of the other node).
-[[nodiscard]] inline std::array<bool, 2> boxes_overlap2(const CompactBox& a0, const MappedBox& mb0,
-                                                        const Eigen::Vector3f& eb0, const CompactBox& a1,
-                                                        const MappedBox& mb1, const Eigen::Vector3f& eb1,
-                                                        double margin) {
-#ifdef TIGHTBVH_BOX_TEST_SSE2
-  LaneBox<F64x2> la, lb;
+// Two pairs' boxes in lanes: A's `a0`, `a1`; B's mapped `mb0`, `mb1` with half extents eb0, eb1.
+inline void load_lanes(LaneBox<F64x2>& la, LaneBox<F64x2>& lb, const CompactBox& a0, const MappedBox& mb0,
+                       const Eigen::Vector3f& eb0, const CompactBox& a1, const MappedBox& mb1,
+                       const Eigen::Vector3f& eb1) {
   for (int i = 0; i < 3; ++i)
     for (int k = 0; k < 3; ++k) {
       la.axes[3 * i + k] = lanes(a0.axes(k, i), a1.axes(k, i));
@@ -160,11 +175,101 @@ inline F64x2 both(double x) { return {_mm_set1_pd(x)}; }
     lb.center[k] = lanes(mb0.center[k], mb1.center[k]);
     lb.half[k] = lanes(eb0[k], eb1[k]);
   }
+}
+#endif
+
+// Two pairs: `a0` and `a1` against B's mapped `mb0`, `mb1` (half extents eb0, eb1). Returns
+// {box_overlap(a0, mb0, eb0), box_overlap(a1, mb1, eb1)}. One side is usually the same box
+// (a node against both children of the other node).
+[[nodiscard]] inline std::array<bool, 2> boxes_overlap2(const CompactBox& a0, const MappedBox& mb0,
+                                                        const Eigen::Vector3f& eb0, const CompactBox& a1,
+                                                        const MappedBox& mb1, const Eigen::Vector3f& eb1,
+                                                        double margin) {
+#ifdef TIGHTBVH_BOX_TEST_SSE2
+  LaneBox<F64x2> la, lb;
+  load_lanes(la, lb, a0, mb0, eb0, a1, mb1, eb1);
   const Mask2 sep = box_separated<F64x2, Mask2>(la, lb, both(margin), both(kSatEpsilon));
   const int bits = _mm_movemask_pd(sep.v);
   return {(bits & 1) == 0, (bits & 2) == 0};
 #else
   return {box_overlap(a0, mb0, eb0, margin), box_overlap(a1, mb1, eb1, margin)};
+#endif
+}
+
+// ---- Distance lower bound, in lanes ----------------------------------------------------------
+// obb_distance_lower_bound() (obb_distance.hpp) written out over the lane type, without branches:
+// the per-axis gaps clamped at 0 by max, the edge axes' squared gaps divided by their squared
+// lengths and the largest kept. The same bound up to rounding (the root and the division come in
+// another order: a relative ~1e-16, far inside the kCompactBoxSlack the caller shrinks it by).
+// Branch-free, because in a distance descent whether each axis separates is close to a coin
+// toss: the scalar kernel's branches were mispredicted often. Two lanes compute the two child
+// pairs of a split at once, as boxes_overlap2 does for collide.
+template <class V>
+[[nodiscard]] inline V box_distance_bound(const LaneBox<V>& a, const LaneBox<V>& b, V eps) {
+  V r[3][3], abs_r[3][3], t[3];
+  const V diff[3] = {b.center[0] - a.center[0], b.center[1] - a.center[1], b.center[2] - a.center[2]};
+  for (int i = 0; i < 3; ++i) {
+    const V* ai = &a.axes[3 * i];
+    for (int j = 0; j < 3; ++j) {
+      const V* bj = &b.axes[3 * j];
+      r[i][j] = ai[0] * bj[0] + ai[1] * bj[1] + ai[2] * bj[2];
+      abs_r[i][j] = lane_abs(r[i][j]) + eps;
+    }
+    t[i] = ai[0] * diff[0] + ai[1] * diff[1] + ai[2] * diff[2];
+  }
+  const V* ea = a.half;
+  const V* eb = b.half;
+  const V zero = lane_splat<V>(0.0);
+  V in_a = zero, in_b = zero;
+  for (int i = 0; i < 3; ++i) {
+    const V rb = eb[0] * abs_r[i][0] + eb[1] * abs_r[i][1] + eb[2] * abs_r[i][2];
+    const V gap = lane_max(lane_abs(t[i]) - ea[i] - rb, zero);
+    in_a = in_a + gap * gap;
+  }
+  for (int j = 0; j < 3; ++j) {
+    const V ra = ea[0] * abs_r[0][j] + ea[1] * abs_r[1][j] + ea[2] * abs_r[2][j];
+    const V tj = t[0] * r[0][j] + t[1] * r[1][j] + t[2] * r[2][j];
+    const V gap = lane_max(lane_abs(tj) - ra - eb[j], zero);
+    in_b = in_b + gap * gap;
+  }
+  V best = lane_max(in_a, in_b);
+  const V one = lane_splat<V>(1.0), short_axis = lane_splat<V>(1e-6);
+  for (int i = 0; i < 3; ++i) {
+    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+    for (int j = 0; j < 3; ++j) {
+      const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+      const V ra = ea[i1] * abs_r[i2][j] + ea[i2] * abs_r[i1][j];
+      const V rb = eb[j1] * abs_r[i][j2] + eb[j2] * abs_r[i][j1];
+      const V gap = lane_max(lane_abs(t[i2] * r[i1][j] - t[i1] * r[i2][j]) - ra - rb, zero);
+      // |A_i x B_j|^2 = 1 - r_ij^2; nearly parallel edges (short axis) keep the unnormalised gap.
+      const V axis = one - r[i][j] * r[i][j];
+      best = lane_max(best, gap * gap / lane_select_le(axis, short_axis, one, axis));
+    }
+  }
+  return lane_sqrt(best);
+}
+
+// The distance bound of one pair (A's box `a`, B's box mapped into A's frame `mb`, B's half
+// extents `eb`): obb_distance_lower_bound() up to rounding, before the caller's allowance.
+[[nodiscard]] inline double box_distance_bound(const CompactBox& a, const MappedBox& mb, const Eigen::Vector3f& eb) {
+  LaneBox<double> la, lb;
+  load_box(la, a);
+  load_box(lb, mb, eb);
+  return box_distance_bound<double>(la, lb, kSatEpsilon);
+}
+
+// Two pairs: {box_distance_bound(a0, mb0, eb0), box_distance_bound(a1, mb1, eb1)}, each lane
+// the scalar's arithmetic (as boxes_overlap2).
+[[nodiscard]] inline std::array<double, 2> box_distance_bounds2(const CompactBox& a0, const MappedBox& mb0,
+                                                                const Eigen::Vector3f& eb0, const CompactBox& a1,
+                                                                const MappedBox& mb1, const Eigen::Vector3f& eb1) {
+#ifdef TIGHTBVH_BOX_TEST_SSE2
+  LaneBox<F64x2> la, lb;
+  load_lanes(la, lb, a0, mb0, eb0, a1, mb1, eb1);
+  const F64x2 bound = box_distance_bound<F64x2>(la, lb, both(kSatEpsilon));
+  return {_mm_cvtsd_f64(bound.v), _mm_cvtsd_f64(_mm_unpackhi_pd(bound.v, bound.v))};
+#else
+  return {box_distance_bound(a0, mb0, eb0), box_distance_bound(a1, mb1, eb1)};
 #endif
 }
 

@@ -14,6 +14,7 @@
 #include <Eigen/Geometry>
 
 #include "tightbvh/compact_box.hpp"
+#include "tightbvh/obb_distance.hpp"
 #include "tightbvh/obb_overlap.hpp"
 #include "tightbvh/pose.hpp"
 
@@ -133,6 +134,53 @@ TEST(BoxTest, OnePairAndBothLanesDecideAsObbOverlap) {
   // Both outcomes well represented (the boundary cases alternate sides).
   EXPECT_GT(overlapping, 4000);
   EXPECT_LT(overlapping, 16000);
+}
+
+// distance()'s bound in lanes (box_distance_bound, box_distance_bounds2): the scalar lane equals
+// obb_distance_lower_bound() on the same box frame up to rounding (1e-12 relative to the boxes'
+// size; the query shrinks it by kCompactBoxSlack = 1e-5), and each SIMD lane is the scalar lane
+// bit for bit, next to any other pair. Cases: the boxes above, and the same pushed apart (B's
+// center moved away from A's by 1x and 3x their offset), so most bounds are positive.
+TEST(BoxTest, DistanceBoundLanesMatchObbDistanceLowerBound) {
+  std::vector<Case> all;
+  for (const Case& c : cases(6000, 9)) {
+    all.push_back(c);
+    for (const double push : {1.0, 3.0}) {
+      Case far = c;
+      far.m.center = c.m.center + push * (c.m.center - c.a.center_d());
+      all.push_back(far);
+    }
+  }
+  int positive = 0;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const Case& c = all[i];
+    const Mat3 aa = c.a.axes_d();
+    const Vec3 diff = c.m.center - c.a.center_d();
+    Mat3 r;
+    Vec3 t;
+    for (int k = 0; k < 3; ++k) {
+      for (int j = 0; j < 3; ++j) r(k, j) = aa(0, k) * c.m.axes(0, j) + aa(1, k) * c.m.axes(1, j) + aa(2, k) * c.m.axes(2, j);
+      t[k] = aa(0, k) * diff[0] + aa(1, k) * diff[1] + aa(2, k) * diff[2];
+    }
+    const double expected = obb_distance_lower_bound(r, t, c.a.half_extents_d(), c.eb.cast<double>());
+    const double size = diff.norm() + c.a.half_extents_d().sum() + c.eb.cast<double>().sum();
+    const double one = query_detail::box_distance_bound(c.a, c.m, c.eb);
+    positive += expected > 0.0;
+    EXPECT_NEAR(one, expected, 1e-12 * size) << "case " << i;
+    EXPECT_GE(one, 0.0);
+    const Case& o = all[(i * 7919 + 13) % all.size()];
+    const double other = query_detail::box_distance_bound(o.a, o.m, o.eb);
+    const auto l0 = query_detail::box_distance_bounds2(c.a, c.m, c.eb, o.a, o.m, o.eb);
+    const auto l1 = query_detail::box_distance_bounds2(o.a, o.m, o.eb, c.a, c.m, c.eb);
+    EXPECT_EQ(l0[0], one) << "case " << i;
+    EXPECT_EQ(l0[1], other) << "case " << i;
+    EXPECT_EQ(l1[1], one) << "case " << i;
+    // A split's shapes: one node against both children of the other.
+    const auto shared_a = query_detail::box_distance_bounds2(c.a, c.m, c.eb, c.a, o.m, o.eb);
+    EXPECT_EQ(shared_a[0], one);
+    EXPECT_EQ(shared_a[1], query_detail::box_distance_bound(c.a, o.m, o.eb));
+  }
+  EXPECT_GT(positive, static_cast<int>(all.size()) / 3);
 }
 
 // The boundary cases really are at the boundary: moving B by one ulp of the slide flips them.

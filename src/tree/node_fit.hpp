@@ -64,18 +64,19 @@ inline void column_extremes(std::span<const Vec3> points, std::vector<Vec3>& out
   (hi - lo).maxCoeff(&along);
   const int u = (along + 1) % 3, v = (along + 2) % 3;
   const double su = kColumns / std::max(hi[u] - lo[u], 1e-300), sv = kColumns / std::max(hi[v] - lo[v], 1e-300);
-  std::vector<int> low(kColumns * kColumns, -1), high(kColumns * kColumns, -1);
+  constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> low(kColumns * kColumns, kNone), high(kColumns * kColumns, kNone);
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Vec3& p = points[i];
     const int cu = std::clamp(static_cast<int>((p[u] - lo[u]) * su), 0, kColumns - 1);
     const int cv = std::clamp(static_cast<int>((p[v] - lo[v]) * sv), 0, kColumns - 1);
     const int c = cu * kColumns + cv;
-    if (low[c] < 0 || p[along] < points[low[c]][along]) low[c] = static_cast<int>(i);
-    if (high[c] < 0 || p[along] > points[high[c]][along]) high[c] = static_cast<int>(i);
+    if (low[c] == kNone || p[along] < points[low[c]][along]) low[c] = i;
+    if (high[c] == kNone || p[along] > points[high[c]][along]) high[c] = i;
   }
   out.clear();
   for (int c = 0; c < kColumns * kColumns; ++c) {
-    if (low[c] < 0) continue;
+    if (low[c] == kNone) continue;
     out.push_back(points[low[c]]);
     if (high[c] != low[c]) out.push_back(points[high[c]]);
   }

@@ -19,6 +19,7 @@
 #include "tightbvh/tri_distance.hpp"
 #include "tightbvh/tri_tri.hpp"
 #include "traverse.hpp"
+#include "tri_distance_disjoint.hpp"
 
 namespace tightbvh {
 namespace {
@@ -159,19 +160,23 @@ class DistanceSearch {
   // Phase 2: best first (a min-heap of node pairs by bound), so that only pairs whose bound is
   // below the final distance are split: 37% fewer bounds and 57% fewer triangle pairs than
   // PQP's depth-first order on the shipped pair's gap poses. A popped pair that is prunable ends
-  // the search (every pair left has a larger bound).
+  // the search (every pair left has a larger bound). The better child of a split is not pushed
+  // when no pair on the heap has a smaller bound: it is split next, as a pop would have chosen
+  // it (the same order up to ties, without the heap operations); otherwise it takes the top's
+  // place on the heap and the top is split next (one sift instead of a push and a pop).
   void best_first(std::vector<BoundedPair>& heap) {
     const auto later = [](const BoundedPair& x, const BoundedPair& y) { return x.bound > y.bound; };
     std::make_heap(heap.begin(), heap.end(), later);
-    while (!heap.empty()) {
-      std::pop_heap(heap.begin(), heap.end(), later);
-      const BoundedPair np = heap.back();
-      heap.pop_back();
+    if (heap.empty()) return;
+    BoundedPair np = pop(heap);
+    for (;;) {
       if (prunable(np.bound)) break;
       const Node& na = ta_.nodes[np.a];
       const Node& nb = tb_.nodes[np.b];
       if (na.is_leaf() && nb.is_leaf()) {
         leaves(np.a, np.b);
+        if (heap.empty()) break;
+        np = pop(heap);
         continue;
       }
       BoundedPair first, second;
@@ -184,12 +189,55 @@ class DistanceSearch {
       }
       const auto bounds = lower_bounds(first.a, first.b, second.a, second.b);
       first.bound = bounds[0], second.bound = bounds[1];
-      for (const BoundedPair& c : {first, second})
-        if (!prunable(c.bound)) {
-          heap.push_back(c);
-          std::push_heap(heap.begin(), heap.end(), later);
-        }
+      // The better child (the first on a tie, as the heap's order mostly had it).
+      const bool swap = second.bound < first.bound;
+      const BoundedPair& lo = swap ? second : first;
+      const BoundedPair& hi = swap ? first : second;
+      if (!prunable(hi.bound)) push(heap, hi);
+      if (prunable(lo.bound)) {  // then so is hi
+        if (heap.empty()) break;
+        np = pop(heap);
+      } else if (!heap.empty() && heap.front().bound < lo.bound) {
+        np = heap.front();
+        heap.front() = lo;
+        sift_down(heap, 0);
+      } else {
+        np = lo;
+      }
     }
+  }
+
+  // The min-heap by bound of best_first (std::make_heap's layout with `later`: heap[0] least).
+  static void sift_down(std::vector<BoundedPair>& heap, std::size_t i) {
+    const std::size_t n = heap.size();
+    const BoundedPair x = heap[i];
+    for (;;) {
+      std::size_t c = 2 * i + 1;
+      if (c >= n) break;
+      if (c + 1 < n && heap[c + 1].bound < heap[c].bound) ++c;
+      if (!(heap[c].bound < x.bound)) break;
+      heap[i] = heap[c];
+      i = c;
+    }
+    heap[i] = x;
+  }
+  static void push(std::vector<BoundedPair>& heap, const BoundedPair& x) {
+    std::size_t i = heap.size();
+    heap.push_back(x);
+    while (i > 0) {
+      const std::size_t parent = (i - 1) / 2;
+      if (!(x.bound < heap[parent].bound)) break;
+      heap[i] = heap[parent];
+      i = parent;
+    }
+    heap[i] = x;
+  }
+  static BoundedPair pop(std::vector<BoundedPair>& heap) {
+    const BoundedPair top = heap.front();
+    heap.front() = heap.back();
+    heap.pop_back();
+    if (!heap.empty()) sift_down(heap, 0);
+    return top;
   }
 
   // The pair cannot hold a triangle pair that beats the best so far by more than the allowed
@@ -212,8 +260,10 @@ class DistanceSearch {
         const std::uint32_t ia = ta_.triangle_order[na.first + i];
         const Triangle& tri_a = ma_.triangles[ia];
         ++stats_.triangle_pairs;
-        const TriangleDistance d =
-            tri_tri_distance(ma_.vertices[tri_a[0]], ma_.vertices[tri_a[1]], ma_.vertices[tri_a[2]], q0, q1, q2);
+        // No pair here touches (touching() tested every pair whose boxes overlap): the touching
+        // test is skipped, the same distance bit for bit.
+        const TriangleDistance d = query_detail::tri_tri_distance_disjoint(
+            ma_.vertices[tri_a[0]], ma_.vertices[tri_a[1]], ma_.vertices[tri_a[2]], q0, q1, q2);
         if (d.distance < best_.distance && d.distance < options_.upper_bound)
           best_ = {d.distance, true, {ia, ib}, d.point_p, d.point_q};
       }

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "tightbvh/tri_tri.hpp"
+#include "tri_distance_disjoint.hpp"
 
 namespace tightbvh {
 namespace {
@@ -178,9 +179,10 @@ Closest closest_pair(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>& q,
 
 }  // namespace
 
-TriangleDistance tri_tri_distance(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
-                                  const Vec3& q0, const Vec3& q1, const Vec3& q2) {
-  const bool touching = tri_tri_overlap(p0, p1, p2, q0, q1, q2);
+namespace {
+
+TriangleDistance distance_given(bool touching, const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
+                                const Vec3& q0, const Vec3& q1, const Vec3& q2) {
   std::array<Vec3, 3> p{p0, p1, p2}, q{q0, q1, q2};
   const bool swapped = canonical_swap(p, q);
   const Closest best = closest_pair(p, q, touching);
@@ -189,6 +191,18 @@ TriangleDistance tri_tri_distance(const Vec3& p0, const Vec3& p1, const Vec3& p2
   result.point_q = swapped ? best.p : best.q;
   result.distance = touching ? 0.0 : disjoint_distance(best.squared);
   return result;
+}
+
+}  // namespace
+
+TriangleDistance tri_tri_distance(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
+                                  const Vec3& q0, const Vec3& q1, const Vec3& q2) {
+  return distance_given(tri_tri_overlap(p0, p1, p2, q0, q1, q2), p0, p1, p2, q0, q1, q2);
+}
+
+TriangleDistance query_detail::tri_tri_distance_disjoint(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
+                                                         const Vec3& q0, const Vec3& q1, const Vec3& q2) {
+  return distance_given(false, p0, p1, p2, q0, q1, q2);
 }
 
 bool tri_tri_within(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //

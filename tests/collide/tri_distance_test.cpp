@@ -8,6 +8,7 @@
 #include <random>
 
 #include "tightbvh/tri_tri.hpp"
+#include "collide/tri_distance_disjoint.hpp"
 
 namespace tightbvh {
 namespace {
@@ -189,6 +190,34 @@ TEST(TriDistance, ConsistentWithTheTouchingPredicateOnRandomNearContacts) {
   }
   EXPECT_GT(touching, 300);
   EXPECT_GT(apart, 300);
+}
+
+// distance()'s search skips the touching test (query_detail::tri_tri_distance_disjoint): on
+// pairs that do not touch it must give tri_tri_distance's answer bit for bit, points included.
+// Grid pairs (shared vertices, edges, coplanar faces, near contacts) and random far pairs.
+TEST(TriDistance, DisjointVariantEqualsTheDistanceOnPairsThatDoNotTouch) {
+  std::mt19937_64 rng(11);
+  std::uniform_int_distribution<int> g(0, 3);
+  int apart = 0;
+  for (int k = 0; k < 4000; ++k) {
+    Tri p, q;
+    if (k % 2 == 0) {
+      for (Vec3& v : p) v = Vec3(g(rng), g(rng), g(rng) * 0.5);
+      for (Vec3& v : q) v = Vec3(g(rng), g(rng), g(rng) * 0.5);
+    } else {
+      for (Vec3& v : p) v = random_point(rng, 1.0);
+      const Vec3 shift = random_point(rng, 2.0);
+      for (Vec3& v : q) v = random_point(rng, 1.0) + shift;
+    }
+    if (tri_tri_overlap(p, q)) continue;
+    ++apart;
+    const TriangleDistance full = tri_tri_distance(p, q);
+    const TriangleDistance fast = query_detail::tri_tri_distance_disjoint(p[0], p[1], p[2], q[0], q[1], q[2]);
+    ASSERT_EQ(fast.distance, full.distance) << k;
+    ASSERT_EQ(fast.point_p, full.point_p) << k;
+    ASSERT_EQ(fast.point_q, full.point_q) << k;
+  }
+  EXPECT_GT(apart, 1500);
 }
 
 TEST(TriDistance, WithinIsTheDistanceComparedToTheMargin) {

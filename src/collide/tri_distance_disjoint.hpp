@@ -1,0 +1,14 @@
+#pragma once
+// Internal: tri_tri_distance() without its touching test, for callers that already know the
+// triangles do not touch (distance()'s search: its touching phase has tested every pair whose
+// boxes overlap, so no pair it reaches touches). For triangles that do not touch
+// (tri_tri_overlap() false) it equals tri_tri_distance() bit for bit; for touching triangles
+// its answer is meaningless (not 0). tests/collide/tri_distance_test.cpp checks the equality.
+#include "tightbvh/tri_distance.hpp"
+
+namespace tightbvh::query_detail {
+
+[[nodiscard]] TriangleDistance tri_tri_distance_disjoint(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
+                                                         const Vec3& q0, const Vec3& q1, const Vec3& q2);
+
+}  // namespace tightbvh::query_detail

@@ -55,10 +55,9 @@ inline double lane_select_le(double x, double y, double p, double q) { return x 
 
 // box_separated: the lanes whose boxes some axis separates by more than `margin` (obb_overlap()'s
 // negation, lane by lane). Stops at the first axis after which every lane is separated.
-template <class V, class M>
-[[nodiscard]] inline M box_separated(const LaneBox<V>& a, const LaneBox<V>& b, V margin, V eps) {
-  // r = Aa^T Mb, t = Aa^T (cb - ca): in_box_frame(), written out.
-  V r[3][3], abs_r[3][3], t[3];
+// r = Aa^T Mb, t = Aa^T (cb - ca), lane by lane: in_box_frame(), written out.
+template <class V>
+inline void lane_relative_frame(const LaneBox<V>& a, const LaneBox<V>& b, V (&r)[3][3], V (&t)[3]) {
   const V diff[3] = {b.center[0] - a.center[0], b.center[1] - a.center[1], b.center[2] - a.center[2]};
   for (int i = 0; i < 3; ++i) {
     const V* ai = &a.axes[3 * i];
@@ -68,6 +67,12 @@ template <class V, class M>
     }
     t[i] = ai[0] * diff[0] + ai[1] * diff[1] + ai[2] * diff[2];
   }
+}
+
+template <class V, class M>
+[[nodiscard]] inline M box_separated(const LaneBox<V>& a, const LaneBox<V>& b, V margin, V eps) {
+  V r[3][3], abs_r[3][3], t[3];
+  lane_relative_frame(a, b, r, t);
   const V* ea = a.half;
   const V* eb = b.half;
   M sep;
@@ -207,16 +212,9 @@ inline void load_lanes(LaneBox<F64x2>& la, LaneBox<F64x2>& lb, const CompactBox&
 template <class V>
 [[nodiscard]] inline V box_distance_bound(const LaneBox<V>& a, const LaneBox<V>& b, V eps) {
   V r[3][3], abs_r[3][3], t[3];
-  const V diff[3] = {b.center[0] - a.center[0], b.center[1] - a.center[1], b.center[2] - a.center[2]};
-  for (int i = 0; i < 3; ++i) {
-    const V* ai = &a.axes[3 * i];
-    for (int j = 0; j < 3; ++j) {
-      const V* bj = &b.axes[3 * j];
-      r[i][j] = ai[0] * bj[0] + ai[1] * bj[1] + ai[2] * bj[2];
-      abs_r[i][j] = lane_abs(r[i][j]) + eps;
-    }
-    t[i] = ai[0] * diff[0] + ai[1] * diff[1] + ai[2] * diff[2];
-  }
+  lane_relative_frame(a, b, r, t);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) abs_r[i][j] = lane_abs(r[i][j]) + eps;
   const V* ea = a.half;
   const V* eb = b.half;
   const V zero = lane_splat<V>(0.0);

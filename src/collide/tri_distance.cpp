@@ -147,7 +147,8 @@ void edge_crossing(const Vec3& a, const Vec3& b, const Face& face, bool edge_on_
 Closest closest_pair(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>& q, bool touching, double enough = -1.0) {
   Closest best;
   const bool may_stop = !touching;
-  const auto done = [&] { return best.separates(p, q) || disjoint_distance(best.squared) <= enough; };
+  // The cheap test first (the same answer either way).
+  const auto done = [&] { return disjoint_distance(best.squared) <= enough || best.separates(p, q); };
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       if (segment_segment(p[i], p[(i + 1) % 3], q[j], q[(j + 1) % 3], best) && may_stop && done()) return best;
@@ -207,10 +208,14 @@ TriangleDistance query_detail::tri_tri_distance_disjoint(const Vec3& p0, const V
 
 bool tri_tri_within(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
                     const Vec3& q0, const Vec3& q1, const Vec3& q2, double margin) {
-  if (tri_tri_overlap(p0, p1, p2, q0, q1, q2)) return true;
+  // The candidates first, the touching test only when none is within the margin: most pairs
+  // within a margin are near, not crossing, and the first close candidate ends the test. The
+  // same answer, bit for bit, as the touching test first: triangles that touch are within the
+  // margin either way, and for those that do not, the candidates decide in both orders.
   std::array<Vec3, 3> p{p0, p1, p2}, q{q0, q1, q2};
   (void)canonical_swap(p, q);  // the order alone matters here
-  return disjoint_distance(closest_pair(p, q, false, margin).squared) <= margin;
+  if (disjoint_distance(closest_pair(p, q, false, margin).squared) <= margin) return true;
+  return tri_tri_overlap(p0, p1, p2, q0, q1, q2);
 }
 
 }  // namespace tightbvh

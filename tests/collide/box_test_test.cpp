@@ -136,7 +136,7 @@ TEST(BoxTest, OnePairAndBothLanesDecideAsObbOverlap) {
   EXPECT_LT(overlapping, 16000);
 }
 
-// distance()'s bound in lanes (box_distance_bound, box_distance_bounds2): the scalar lane equals
+// distance()'s bound in lanes (box_distance_bound, box_distance_bounds2, box_distance_bounds4): the scalar lane equals
 // obb_distance_lower_bound() on the same box frame up to rounding (1e-12 relative to the boxes'
 // size; the query shrinks it by kCompactBoxSlack = 1e-5), and each SIMD lane is the scalar lane
 // bit for bit, next to any other pair. Cases: the boxes above, and the same pushed apart (B's
@@ -179,8 +179,22 @@ TEST(BoxTest, DistanceBoundLanesMatchObbDistanceLowerBound) {
     const auto shared_a = query_detail::box_distance_bounds2(c.a, c.m, c.eb, c.a, o.m, o.eb);
     EXPECT_EQ(shared_a[0], one);
     EXPECT_EQ(shared_a[1], query_detail::box_distance_bound(c.a, o.m, o.eb));
+    // Four lanes (a split of both nodes: A's two children against B's two), on the AVX2 path
+    // where this CPU has it and on the two-lane fallback.
+    const Case& p = all[(i * 104729 + 7) % all.size()];
+    const CompactBox* const a4[4] = {&c.a, &c.a, &p.a, &p.a};
+    const query_detail::MappedBox* const m4[4] = {&c.m, &o.m, &c.m, &o.m};
+    const Eigen::Vector3f* const e4[4] = {&c.eb, &o.eb, &c.eb, &o.eb};
+    for (const bool avx2 : {false, query_detail::avx2_bounds_available()}) {
+      const auto l4 = query_detail::box_distance_bounds4(a4, m4, e4, avx2);
+      EXPECT_EQ(l4[0], one) << "case " << i << (avx2 ? ", AVX2" : "");
+      EXPECT_EQ(l4[1], shared_a[1]) << "case " << i << (avx2 ? ", AVX2" : "");
+      EXPECT_EQ(l4[2], query_detail::box_distance_bound(p.a, c.m, c.eb)) << "case " << i << (avx2 ? ", AVX2" : "");
+      EXPECT_EQ(l4[3], query_detail::box_distance_bound(p.a, o.m, o.eb)) << "case " << i << (avx2 ? ", AVX2" : "");
+    }
   }
   EXPECT_GT(positive, static_cast<int>(all.size()) / 3);
+  RecordProperty("avx2_lanes_tested", query_detail::avx2_bounds_available() ? "yes" : "no (CPU or build without them)");
 }
 
 // The boundary cases really are at the boundary: moving B by one ulp of the slide flips them.

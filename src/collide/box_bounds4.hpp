@@ -1,0 +1,39 @@
+#pragma once
+// Internal: distance()'s box bound for four pairs at once in AVX2 lanes (box_bounds_avx2.cpp,
+// compiled with -mavx2 on x86-64 only; callers check avx2_bounds_available() at run time, so the
+// library still runs on any x86-64). Each lane is box_distance_bound<double>'s arithmetic
+// (box_lanes.hpp), operation for operation and without FMA, so each lane equals the one-pair
+// bound bit for bit. The boxes come as plain arrays: that file includes no Eigen (box_lanes.hpp
+// says why).
+
+// x86-64 with GCC or Clang: src/collide/CMakeLists.txt compiles box_bounds_avx2.cpp for AVX2 there.
+#if defined(__x86_64__) && defined(__GNUC__)
+#define TIGHTBVH_AVX2_BOUNDS 1
+#endif
+
+namespace tightbvh::query_detail {
+
+// One pair: A's box as stored (float center, axes column-major, half extents) and B's box mapped
+// into A's frame (double axes column-major and center) with B's float half extents.
+struct BoundInput {
+  const float* a_center;
+  const float* a_axes;
+  const float* a_half;
+  const double* b_axes;
+  const double* b_center;
+  const float* b_half;
+};
+
+// Defined where TIGHTBVH_AVX2_BOUNDS is.
+void box_distance_bounds4_avx2(const BoundInput (&pairs)[4], double eps, double (&bounds)[4]);
+
+// Whether box_distance_bounds4_avx2 exists and this CPU can run it.
+[[nodiscard]] inline bool avx2_bounds_available() {
+#ifdef TIGHTBVH_AVX2_BOUNDS
+  return __builtin_cpu_supports("avx2");
+#else
+  return false;
+#endif
+}
+
+}  // namespace tightbvh::query_detail

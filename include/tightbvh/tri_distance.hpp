@@ -35,8 +35,8 @@ struct TriangleDistance {
   return tri_tri_distance(p[0], p[1], p[2], q[0], q[1], q[2]);
 }
 
-// tri_tri_distance(...).distance <= margin, exactly, but cheaper: touching pairs need no
-// candidates, and the search stops at the first candidate within the margin (collide's margin).
+// tri_tri_distance(...).distance <= margin, exactly, but cheaper: the candidates stop at the
+// first one within the margin, and the touching test runs only when none is (collide's margin).
 [[nodiscard]] bool tri_tri_within(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
                                   const Vec3& q0, const Vec3& q1, const Vec3& q2, double margin);
 

@@ -136,10 +136,10 @@ TEST(BoxTest, OnePairAndBothLanesDecideAsObbOverlap) {
   EXPECT_LT(overlapping, 16000);
 }
 
-// distance()'s bound in lanes (box_distance_bound, box_distance_bounds2, box_distance_bounds4): the scalar lane equals
-// obb_distance_lower_bound() on the same box frame up to rounding (1e-12 relative to the boxes'
-// size; the query shrinks it by kCompactBoxSlack = 1e-5), and each SIMD lane is the scalar lane
-// bit for bit, next to any other pair. Cases: the boxes above, and the same pushed apart (B's
+// distance()'s bound in lanes (box_distance_bound, box_distance_bounds2, box_distance_bounds4):
+// the scalar lane equals obb_distance_lower_bound() on the same box frame up to rounding (1e-12
+// relative to the boxes' size; the query shrinks it by kCompactBoxSlack = 1e-5), and each SIMD
+// lane (two SSE2, four AVX2) is the scalar lane bit for bit, next to any other pair. Cases: the boxes above, and the same pushed apart (B's
 // center moved away from A's by 1x and 3x their offset), so most bounds are positive.
 TEST(BoxTest, DistanceBoundLanesMatchObbDistanceLowerBound) {
   std::vector<Case> all;

@@ -294,7 +294,8 @@ const Recorded& recorded(int scenario, bool all_pairs) {
 
 // Args: scenario, mode. The box tests of collide_trees: B's box mapped into A's frame once per
 // query and node (the same cache), with the same allowance; the root pair alone, then each split
-// pair's two children at once (boxes_overlap2), as traverse_pairs_tested makes them. (A first_hit
+// pair's two children at once (boxes_overlap2), or its four when both nodes split
+// (boxes_overlap4), as traverse_pairs_tested makes them. (A first_hit
 // query also tests, never pops and never counts the children of its last splits; so does this.)
 void BM_ReplayBoxTests(benchmark::State& state) {
   const Scene& sc = scene();
@@ -303,6 +304,7 @@ void BM_ReplayBoxTests(benchmark::State& state) {
   const Tree& tb = *rec.tb;
   query_detail::BoxCache cache;
   std::size_t tests = 0, overlaps = 0;
+  const bool avx2 = query_detail::avx2_bounds_available();
   for (auto _ : state) {
     for (std::size_t q = 0; q < rec.tested.size(); ++q) {
       const Pose& rel = sc.poses[state.range(0)][q];  // A at identity: B's pose is the relative pose
@@ -315,10 +317,15 @@ void BM_ReplayBoxTests(benchmark::State& state) {
       for (const query_detail::NodePair& p : rec.descended[q]) {
         const Node& na = ta.nodes[p.a];
         const Node& nb = tb.nodes[p.b];
-        const bool split_a = nb.is_leaf() || (!na.is_leaf() && query_detail::descend_size(na.box, DescendRule::larger_volume) >=
-                                                                    query_detail::descend_size(nb.box, DescendRule::larger_volume));
+        const query_detail::Split split = query_detail::choose_split(na, nb, DescendRule::larger_volume);
+        if (query_detail::splits_both(split)) {
+          const auto boxes = query_detail::four_pair_boxes(ta, tb, query_detail::both_children(na, nb, split), mapped);
+          const auto o = query_detail::boxes_overlap4(boxes.a, boxes.mb, boxes.eb, margin, avx2);
+          overlaps += o[0] + o[1] + o[2] + o[3];
+          continue;
+        }
         std::array<bool, 2> o;
-        if (split_a)
+        if (split == query_detail::Split::a)
           o = query_detail::boxes_overlap2(ta.nodes[na.first].box, mapped(p.b), nb.box.half_extents,
                                            ta.nodes[na.first + 1].box, mapped(p.b), nb.box.half_extents, margin);
         else

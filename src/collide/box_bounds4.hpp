@@ -1,10 +1,10 @@
 #pragma once
-// Internal: distance()'s box bound for four pairs at once in AVX2 lanes (box_bounds_avx2.cpp,
-// compiled with -mavx2 on x86-64 only; callers check avx2_bounds_available() at run time, so the
-// library still runs on any x86-64). Each lane is box_distance_bound<double>'s arithmetic
-// (box_lanes.hpp), operation for operation and without FMA, so each lane equals the one-pair
-// bound bit for bit. The boxes come as plain arrays: that file includes no Eigen (box_lanes.hpp
-// says why).
+// Internal: the box kernels for four pairs at once in AVX2 lanes (box_bounds_avx2.cpp, compiled
+// with -mavx2 on x86-64 only; callers check avx2_bounds_available() at run time, so the library
+// still runs on any x86-64): distance()'s box bound and collide()'s box test. Each lane is the
+// one-pair kernel's arithmetic (box_lanes.hpp), operation for operation and without FMA, so each
+// lane equals the one-pair bound, or decides as the one-pair test, bit for bit. The boxes come as
+// plain arrays: that file includes no Eigen (box_lanes.hpp says why).
 
 // x86-64 with GCC or Clang: src/collide/CMakeLists.txt compiles box_bounds_avx2.cpp for AVX2 there.
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -26,6 +26,9 @@ struct BoundInput {
 
 // Defined where TIGHTBVH_AVX2_BOUNDS is.
 void box_distance_bounds4_avx2(const BoundInput (&pairs)[4], double eps, double (&bounds)[4]);
+// box_separated over four lanes: bit k set when pair k's boxes are separated by more than
+// `margin` (obb_overlap()'s negation with kSatEpsilon = eps).
+[[nodiscard]] int boxes_separated4_avx2(const BoundInput (&pairs)[4], double margin, double eps);
 
 // Whether box_distance_bounds4_avx2 exists and this CPU can run it.
 [[nodiscard]] inline bool avx2_bounds_available() {

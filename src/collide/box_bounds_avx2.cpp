@@ -1,4 +1,5 @@
-// distance()'s box bound, four pairs at once in AVX2 lanes of doubles (box_bounds4.hpp). Compiled
+// distance()'s box bound and collide()'s box test, four pairs at once in AVX2 lanes of doubles
+// (box_bounds4.hpp). Compiled
 // with -mavx2 -mno-fma (src/collide/CMakeLists.txt); everything here but the entry point has
 // internal linkage, and nothing from Eigen or the rest of the library is compiled here.
 #include "box_bounds4.hpp"
@@ -24,6 +25,13 @@ inline F64x4 lane_sqrt(F64x4 x) { return {_mm256_sqrt_pd(x.v)}; }
 inline F64x4 lane_select_le(F64x4 x, F64x4 y, F64x4 p, F64x4 q) {
   return {_mm256_blendv_pd(q.v, p.v, _mm256_cmp_pd(x.v, y.v, _CMP_LE_OQ))};
 }
+struct Mask4 {
+  __m256d v;
+};
+inline Mask4 operator|(Mask4 x, Mask4 y) { return {_mm256_or_pd(x.v, y.v)}; }
+// x > y, false where either is NaN, as SSE2's _mm_cmpgt_pd in collide's two lanes.
+inline Mask4 lane_gt(F64x4 x, F64x4 y) { return {_mm256_cmp_pd(x.v, y.v, _CMP_GT_OQ)}; }
+inline bool all_lanes(Mask4 m) { return _mm256_movemask_pd(m.v) == 15; }
 
 // The four pairs' values at one offset, widened exactly to double.
 inline F64x4 gather(const float* const (&p)[4], int k) { return {_mm256_cvtps_pd(_mm_set_ps(p[3][k], p[2][k], p[1][k], p[0][k]))}; }
@@ -36,14 +44,16 @@ inline F64x4 lane_splat<F64x4>(double x) {
   return {_mm256_set1_pd(x)};
 }
 
-void box_distance_bounds4_avx2(const BoundInput (&pairs)[4], double eps, double (&bounds)[4]) {
+namespace {
+
+// The four pairs' boxes in lanes.
+void load_lanes(const BoundInput (&pairs)[4], LaneBox<F64x4>& a, LaneBox<F64x4>& b) {
   const float* const a_center[4] = {pairs[0].a_center, pairs[1].a_center, pairs[2].a_center, pairs[3].a_center};
   const float* const a_axes[4] = {pairs[0].a_axes, pairs[1].a_axes, pairs[2].a_axes, pairs[3].a_axes};
   const float* const a_half[4] = {pairs[0].a_half, pairs[1].a_half, pairs[2].a_half, pairs[3].a_half};
   const double* const b_axes[4] = {pairs[0].b_axes, pairs[1].b_axes, pairs[2].b_axes, pairs[3].b_axes};
   const double* const b_center[4] = {pairs[0].b_center, pairs[1].b_center, pairs[2].b_center, pairs[3].b_center};
   const float* const b_half[4] = {pairs[0].b_half, pairs[1].b_half, pairs[2].b_half, pairs[3].b_half};
-  LaneBox<F64x4> a, b;
   for (int i = 0; i < 9; ++i) {  // axis i / 3, component i % 3: column-major storage
     a.axes[i] = gather(a_axes, i);
     b.axes[i] = gather(b_axes, i);
@@ -54,7 +64,20 @@ void box_distance_bounds4_avx2(const BoundInput (&pairs)[4], double eps, double 
     b.center[k] = gather(b_center, k);
     b.half[k] = gather(b_half, k);
   }
+}
+
+}  // namespace
+
+void box_distance_bounds4_avx2(const BoundInput (&pairs)[4], double eps, double (&bounds)[4]) {
+  LaneBox<F64x4> a, b;
+  load_lanes(pairs, a, b);
   _mm256_storeu_pd(bounds, box_distance_bound<F64x4>(a, b, lane_splat<F64x4>(eps)).v);
+}
+
+int boxes_separated4_avx2(const BoundInput (&pairs)[4], double margin, double eps) {
+  LaneBox<F64x4> a, b;
+  load_lanes(pairs, a, b);
+  return _mm256_movemask_pd(box_separated<F64x4, Mask4>(a, b, lane_splat<F64x4>(margin), lane_splat<F64x4>(eps)).v);
 }
 
 }  // namespace tightbvh::query_detail

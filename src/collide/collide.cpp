@@ -24,11 +24,12 @@ namespace {
 using query_detail::map_point;
 
 // The batched box tests of collide_trees for a walk that can use them (traverse_pairs_tested).
-template <class One, class ChildrenA, class ChildrenB>
+template <class One, class ChildrenA, class ChildrenB, class ChildrenBoth>
 struct BatchedTests {
   One& one;
   ChildrenA& children_a;
   ChildrenB& children_b;
+  ChildrenBoth& children_both;
   bool can_stop;  // first_hit
   std::uint64_t& box_tests;
 };
@@ -66,6 +67,12 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
     return boxes_overlap2(a, mapped_b(ib), tb.nodes[ib].box.half_extents, a, mapped_b(ib + 1),
                           tb.nodes[ib + 1].box.half_extents, margin);
   };
+  // A split of both nodes: its four child pairs at once (AVX2 lanes where the CPU has them).
+  const bool avx2 = avx2_bounds_available();
+  const auto children_both = [&](const std::array<NodePair, 4>& pairs) {
+    const FourPairBoxes boxes = four_pair_boxes(ta, tb, pairs, mapped_b);
+    return boxes_overlap4(boxes.a, boxes.mb, boxes.eb, margin, avx2);
+  };
   MappedChunk mapped;
   const auto triangles_touch = [&](std::uint32_t ia_node, std::uint32_t ib_node) {
     const Node& na = ta.nodes[ia_node];
@@ -95,7 +102,8 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
     }
     return Walk::go_on;
   };
-  walk(boxes_overlap, triangles_touch, BatchedTests{node_overlaps, children_of_a, children_of_b, FirstHit, box_tests});
+  walk(boxes_overlap, triangles_touch,
+       BatchedTests{node_overlaps, children_of_a, children_of_b, children_both, FirstHit, box_tests});
   result.stats.box_tests += box_tests;
   result.stats.triangle_tests += triangle_tests;
 }
@@ -165,7 +173,7 @@ QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b
       [&](auto&, auto& leaves, auto batched) {
         query_detail::traverse_pairs_tested(a, b, options.descend, ws.tested_stack, batched.can_stop, batched.box_tests,
                                             batched.one,
-                                            batched.children_a, batched.children_b, leaves);
+                                            batched.children_a, batched.children_b, batched.children_both, leaves);
       });
 }
 

@@ -102,9 +102,21 @@ class DistanceSearch {
         aside.push_back({np.a, np.b, 0.0});
         continue;
       }
+      const query_detail::Split split = query_detail::choose_split(na, nb, options_.descend);
+      if (query_detail::splits_both(split)) {
+        const std::array<NodePair, 4> kids = query_detail::both_children(na, nb, split);
+        const auto boxes = query_detail::four_pair_boxes(ta_, tb_, kids,
+                                                         [&](std::uint32_t ib) -> const auto& { return mapped(ib); });
+        const std::array<bool, 4> overlap = query_detail::boxes_overlap4(boxes.a, boxes.mb, boxes.eb, margin_, avx2_);
+        stats_.node_pairs += 4;
+        for (int k = 3; k >= 0; --k)  // collide's order: the first child pair is visited first
+          if (overlap[k]) stack.push(kids[k]);
+          else aside.push_back({kids[k].a, kids[k].b, 0.0});
+        continue;
+      }
       NodePair first, second;
       std::array<bool, 2> overlap;
-      if (query_detail::splits_a(na, nb, options_.descend)) {
+      if (split == query_detail::Split::a) {
         first = {na.first, np.b}, second = {na.first + 1, np.b};
         const query_detail::MappedBox& m = mapped(np.b);
         const Eigen::Vector3f& eb = nb.box.half_extents;

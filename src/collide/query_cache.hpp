@@ -307,7 +307,8 @@ template <class NodeTest, class LeafPair>
       if (leaves(q.a, q.b) == Walk::stop) return stop_in_main_pass();
       continue;
     }
-    // Split as traverse_pairs does (first child popped first: the same depth-first order).
+    // Split the larger node, first child popped first. Never both nodes (as traverse_pairs does for
+    // nodes of about one size): a lift merges two siblings back into their parent pair.
     if (splits_a(na, nb, rule)) {
       stack.push_back({na.first + 1, q.b, 0, 0, kFresh});
       stack.push_back({na.first, q.b, 0, 0, kFresh});

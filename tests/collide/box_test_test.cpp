@@ -1,7 +1,8 @@
-// collide()'s box tests (src/collide/box_test.hpp): the one-pair test and both lanes of the
-// two-pair SIMD test decide exactly as obb_overlap() on the same box frame, on random pairs and
-// on pairs at the very boundary (adjacent doubles of a translation on either side of the flip),
-// where any difference in the arithmetic would show. That collide() (batched tests) and
+// collide()'s box tests (src/collide/box_test.hpp): the one-pair test, both lanes of the two-pair
+// SIMD test and the four lanes of the four-pair test (AVX2 where the CPU has it) decide exactly
+// as obb_overlap() on the same box frame, on random pairs and on pairs at the very boundary
+// (adjacent doubles of a translation on either side of the flip), where any difference in the
+// arithmetic would show. That collide() (batched tests) and
 // collide_trace() (one-pair tests) make the same descent is tests/collide/trace_test.cpp.
 #include "collide/box_test.hpp"
 
@@ -129,6 +130,20 @@ TEST(BoxTest, OnePairAndBothLanesDecideAsObbOverlap) {
     EXPECT_EQ(shared_a[1], reference(c.a, o.m, o.eb, c.margin));
     EXPECT_EQ(shared_b[0], expected);
     EXPECT_EQ(shared_b[1], reference(o.a, c.m, c.eb, c.margin));
+    // Four lanes (a split of both nodes: A's two children against B's two), on the AVX2 path
+    // where this CPU has it and on the two-lane fallback; this case in lane i % 4.
+    const Case& p = all[(i * 104729 + 7) % all.size()];
+    const Case* four[4] = {&o, &p, &o, &p};
+    four[i % 4] = &c;
+    const CompactBox* const a4[4] = {&four[0]->a, &four[1]->a, &four[2]->a, &four[3]->a};
+    const query_detail::MappedBox* const m4[4] = {&four[0]->m, &four[1]->m, &four[2]->m, &four[3]->m};
+    const Eigen::Vector3f* const e4[4] = {&four[0]->eb, &four[1]->eb, &four[2]->eb, &four[3]->eb};
+    for (const bool avx2 : {false, query_detail::avx2_bounds_available()}) {
+      const auto l4 = query_detail::boxes_overlap4(a4, m4, e4, c.margin, avx2);
+      for (int k = 0; k < 4; ++k)
+        EXPECT_EQ(l4[k], reference(four[k]->a, four[k]->m, four[k]->eb, c.margin))
+            << "case " << i << ", lane " << k << (avx2 ? ", AVX2" : "");
+    }
   }
   EXPECT_EQ(mismatches, 0);
   // Both outcomes well represented (the boundary cases alternate sides).

@@ -1,5 +1,6 @@
 // collide_trace() is collide()'s real descent: same answer, same first hit, same test counts, on
-// shipped meshes, for both modes, both descent rules, margins and leaves wider than one chunk.
+// shipped meshes, for both modes, both descent rules, margins and leaves wider than one chunk,
+// with splits of one node (two child pairs tested at once) and of both (four).
 #include "tightbvh/collide_trace.hpp"
 
 #include <gtest/gtest.h>
@@ -7,6 +8,7 @@
 #include <numeric>
 #include <string>
 
+#include "collide/traverse.hpp"
 #include "query_fixtures.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/error.hpp"
@@ -28,6 +30,7 @@ int expect_trace_is_the_descent(const Mesh& ma, const Mesh& mb, const Fitter& fi
   const Tree ta = build(ma, {.fitter = fitter, .leaf_size = leaf_size, .threads = 1});
   const Tree tb = build(mb, {.fitter = fitter, .leaf_size = leaf_size, .threads = 1});
   int hits = 0;
+  std::uint64_t splits_of_both = 0;
   const auto poses = random_poses(ma, mb, seed, {0.0, 0.3, 0.6, 0.8, 1.1});
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const auto& [pa, pb] = poses[i];
@@ -56,8 +59,18 @@ int expect_trace_is_the_descent(const Mesh& ma, const Mesh& mb, const Fitter& fi
         EXPECT_EQ(trace.pairs[0].level, 0u);
         EXPECT_EQ(count(trace, PairOutcome::hit) > 0, expected.hit);
         if (mode == QueryMode::all_pairs) {
-          // Each descended pair pushes two children, and every pushed pair is visited.
-          EXPECT_EQ(trace.visited, 1 + 2 * count(trace, PairOutcome::descended));
+          // Each descended pair pushes its two children, or four when both nodes split (nodes of
+          // about one size), and every pushed pair is visited.
+          std::uint64_t pushed = 0, both = 0;
+          for (const VisitedPair& p : trace.pairs) {
+            if (p.outcome != PairOutcome::descended) continue;
+            const bool split_both =
+                query_detail::splits_both(query_detail::choose_split(ta.nodes[p.a], tb.nodes[p.b], rule));
+            pushed += split_both ? 4 : 2;
+            both += split_both;
+          }
+          EXPECT_EQ(trace.visited, 1 + pushed);
+          splits_of_both += both;
         } else if (expected.hit) {
           EXPECT_EQ(trace.pairs.back().outcome, PairOutcome::hit);  // the descent stopped there
           EXPECT_EQ(count(trace, PairOutcome::hit), 1u);
@@ -71,6 +84,7 @@ int expect_trace_is_the_descent(const Mesh& ma, const Mesh& mb, const Fitter& fi
         hits += expected.hit && mode == QueryMode::first_hit && rule == DescendRule::larger_volume;
       }
   }
+  EXPECT_GT(splits_of_both, 0u) << "no pair split both nodes: the four-lane path went untested";
   return hits;
 }
 

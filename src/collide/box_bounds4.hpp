@@ -26,9 +26,22 @@ struct BoundInput {
 
 // Defined where TIGHTBVH_AVX2_BOUNDS is.
 void box_distance_bounds4_avx2(const BoundInput (&pairs)[4], double eps, double (&bounds)[4]);
-// box_separated over four lanes: bit k set when pair k's boxes are separated by more than
+
+// The four child pairs of a split of both nodes: A's children's boxes a[0], a[1] (as stored)
+// against B's children's boxes b[0], b[1] (mapped into A's frame, B's half extents), pair k in
+// traverse.hpp's both_children order: `a_major` (a0 b0, a0 b1, a1 b0, a1 b1) or not (a0 b0,
+// a1 b0, a0 b1, a1 b1). Each side has two distinct boxes, so the lanes load two and repeat them.
+struct CrossInput {
+  const float* a_center[2];
+  const float* a_axes[2];
+  const float* a_half[2];
+  const double* b_axes[2];
+  const double* b_center[2];
+  const float* b_half[2];
+};
+// box_separated over those four lanes: bit k set when pair k's boxes are separated by more than
 // `margin` (obb_overlap()'s negation with kSatEpsilon = eps).
-[[nodiscard]] int boxes_separated4_avx2(const BoundInput (&pairs)[4], double margin, double eps);
+[[nodiscard]] int boxes_separated_cross_avx2(const CrossInput& boxes, bool a_major, double margin, double eps);
 
 // Whether box_distance_bounds4_avx2 exists and this CPU can run it.
 [[nodiscard]] inline bool avx2_bounds_available() {

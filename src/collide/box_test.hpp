@@ -149,16 +149,6 @@ inline void load_lanes(LaneBox<F64x2>& la, LaneBox<F64x2>& lb, const CompactBox&
 #endif
 }
 
-#ifdef TIGHTBVH_AVX2_BOUNDS
-// The four pairs as the AVX2 kernels take them (box_bounds4.hpp).
-inline void bound_inputs(const CompactBox* const (&a)[4], const MappedBox* const (&mb)[4],
-                         const Eigen::Vector3f* const (&eb)[4], BoundInput (&pairs)[4]) {
-  for (int k = 0; k < 4; ++k)
-    pairs[k] = {a[k]->center.data(), a[k]->axes.data(), a[k]->half_extents.data(),
-                mb[k]->axes.data(),  mb[k]->center.data(), eb[k]->data()};
-}
-#endif
-
 // Four pairs (A's a[k] against B's mapped mb[k] with half extents eb[k]): four AVX2 lanes when
 // `avx2` (avx2_bounds_available(), box_bounds4.hpp), else box_distance_bounds2 twice. Each value
 // equals box_distance_bound(a[k], *mb[k], *eb[k]) bit for bit on either path.
@@ -168,7 +158,9 @@ inline void bound_inputs(const CompactBox* const (&a)[4], const MappedBox* const
 #ifdef TIGHTBVH_AVX2_BOUNDS
   if (avx2) {
     BoundInput pairs[4];
-    bound_inputs(a, mb, eb, pairs);
+    for (int k = 0; k < 4; ++k)
+      pairs[k] = {a[k]->center.data(), a[k]->axes.data(), a[k]->half_extents.data(),
+                  mb[k]->axes.data(),  mb[k]->center.data(), eb[k]->data()};
     std::array<double, 4> bounds;
     double out[4];
     box_distance_bounds4_avx2(pairs, kSatEpsilon, out);
@@ -182,44 +174,45 @@ inline void bound_inputs(const CompactBox* const (&a)[4], const MappedBox* const
   return {lo[0], lo[1], hi[0], hi[1]};
 }
 
-// Four pairs: {box_overlap(a[k], *mb[k], *eb[k], margin)} for k = 0..3, in four AVX2 lanes when
-// `avx2`, else boxes_overlap2 twice; each lane decides as the one-pair test bit for bit on either
-// path. The four child pairs of a split of both nodes (traverse_pairs_tested).
-[[nodiscard]] inline std::array<bool, 4> boxes_overlap4(const CompactBox* const (&a)[4],
-                                                        const MappedBox* const (&mb)[4],
-                                                        const Eigen::Vector3f* const (&eb)[4], double margin, bool avx2) {
+// The four child pairs of a split of both nodes, A's children's boxes a[0], a[1] against B's
+// mapped mb[0], mb[1] (half extents eb[0], eb[1]), in both_children's order (`a_major`, see
+// CrossInput in box_bounds4.hpp): {box_overlap(...)} of each, in four AVX2 lanes when `avx2`
+// (avx2_bounds_available()), else boxes_overlap2 twice; each lane decides as the one-pair test bit
+// for bit on either path.
+[[nodiscard]] inline std::array<bool, 4> boxes_overlap_cross(const CompactBox* const (&a)[2],
+                                                             const MappedBox* const (&mb)[2],
+                                                             const Eigen::Vector3f* const (&eb)[2], bool a_major,
+                                                             double margin, bool avx2) {
 #ifdef TIGHTBVH_AVX2_BOUNDS
   if (avx2) {
-    BoundInput pairs[4];
-    bound_inputs(a, mb, eb, pairs);
-    const int separated = boxes_separated4_avx2(pairs, margin, kSatEpsilon);
+    const CrossInput in{{a[0]->center.data(), a[1]->center.data()},
+                        {a[0]->axes.data(), a[1]->axes.data()},
+                        {a[0]->half_extents.data(), a[1]->half_extents.data()},
+                        {mb[0]->axes.data(), mb[1]->axes.data()},
+                        {mb[0]->center.data(), mb[1]->center.data()},
+                        {eb[0]->data(), eb[1]->data()}};
+    const int separated = boxes_separated_cross_avx2(in, a_major, margin, kSatEpsilon);
     return {(separated & 1) == 0, (separated & 2) == 0, (separated & 4) == 0, (separated & 8) == 0};
   }
 #endif
   (void)avx2;
-  const auto lo = boxes_overlap2(*a[0], *mb[0], *eb[0], *a[1], *mb[1], *eb[1], margin);
-  const auto hi = boxes_overlap2(*a[2], *mb[2], *eb[2], *a[3], *mb[3], *eb[3], margin);
+  const int a1 = a_major ? 0 : 1, b1 = a_major ? 1 : 0;  // pair 1: (a[a1], b[b1]); pair 2 the other
+  const auto lo = boxes_overlap2(*a[0], *mb[0], *eb[0], *a[a1], *mb[b1], *eb[b1], margin);
+  const auto hi = boxes_overlap2(*a[1 - a1], *mb[1 - b1], *eb[1 - b1], *a[1], *mb[1], *eb[1], margin);
   return {lo[0], lo[1], hi[0], hi[1]};
 }
 
-// The boxes of four node pairs (anything with node indices .a and .b) as the four-lane kernels
-// take them: A's box, B's box mapped into A's frame (mapped(b) -> const MappedBox&), B's half
-// extents.
-struct FourPairBoxes {
-  const CompactBox* a[4];
-  const MappedBox* mb[4];
-  const Eigen::Vector3f* eb[4];
-};
-template <class Pairs, class Mapped>
-[[nodiscard]] inline FourPairBoxes four_pair_boxes(const Tree& ta, const Tree& tb, const Pairs& pairs,
-                                                   Mapped&& mapped) {
-  FourPairBoxes out;
-  for (int k = 0; k < 4; ++k) {
-    out.a[k] = &ta.nodes[pairs[k].a].box;
-    out.mb[k] = &mapped(pairs[k].b);
-    out.eb[k] = &tb.nodes[pairs[k].b].box.half_extents;
-  }
-  return out;
+// The four child pairs of a split of both nodes `na` of A and `nb` of B, tested at once in
+// both_children's order (traverse.hpp): boxes_overlap_cross on the children's boxes, B's mapped
+// into A's frame by mapped(b) -> const MappedBox&.
+template <class Mapped>
+[[nodiscard]] inline std::array<bool, 4> children_overlap_cross(const Tree& ta, const Tree& tb, const Node& na,
+                                                                const Node& nb, bool a_major, Mapped&& mapped,
+                                                                double margin, bool avx2) {
+  const CompactBox* const a[2] = {&ta.nodes[na.first].box, &ta.nodes[na.first + 1].box};
+  const MappedBox* const mb[2] = {&mapped(nb.first), &mapped(nb.first + 1)};
+  const Eigen::Vector3f* const eb[2] = {&tb.nodes[nb.first].box.half_extents, &tb.nodes[nb.first + 1].box.half_extents};
+  return boxes_overlap_cross(a, mb, eb, a_major, margin, avx2);
 }
 
 }  // namespace tightbvh::query_detail

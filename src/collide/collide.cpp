@@ -69,9 +69,8 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
   };
   // A split of both nodes: its four child pairs at once (AVX2 lanes where the CPU has them).
   const bool avx2 = avx2_bounds_available();
-  const auto children_both = [&](const std::array<NodePair, 4>& pairs) {
-    const FourPairBoxes boxes = four_pair_boxes(ta, tb, pairs, mapped_b);
-    return boxes_overlap4(boxes.a, boxes.mb, boxes.eb, margin, avx2);
+  const auto children_both = [&](const Node& na, const Node& nb, bool a_major) {
+    return children_overlap_cross(ta, tb, na, nb, a_major, mapped_b, margin, avx2);
   };
   MappedChunk mapped;
   const auto triangles_touch = [&](std::uint32_t ia_node, std::uint32_t ib_node) {

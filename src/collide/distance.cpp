@@ -105,9 +105,9 @@ class DistanceSearch {
       const query_detail::Split split = query_detail::choose_split(na, nb, options_.descend);
       if (query_detail::splits_both(split)) {
         const std::array<NodePair, 4> kids = query_detail::both_children(na, nb, split);
-        const auto boxes = query_detail::four_pair_boxes(ta_, tb_, kids,
-                                                         [&](std::uint32_t ib) -> const auto& { return mapped(ib); });
-        const std::array<bool, 4> overlap = query_detail::boxes_overlap4(boxes.a, boxes.mb, boxes.eb, margin_, avx2_);
+        const std::array<bool, 4> overlap = query_detail::children_overlap_cross(
+            ta_, tb_, na, nb, split == query_detail::Split::both_a_first,
+            [&](std::uint32_t ib) -> const auto& { return mapped(ib); }, margin_, avx2_);
         stats_.node_pairs += 4;
         for (int k = 3; k >= 0; --k)  // collide's order: the first child pair is visited first
           if (overlap[k]) stack.push(kids[k]);

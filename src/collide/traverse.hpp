@@ -79,11 +79,12 @@ using TestedPairStack = BasicPairStack<TestedPair>;
 }
 
 // Of two nodes of about one size (within this ratio by the descend rule's measure) both are split
-// at once: their four child pairs are tested together (boxes_overlap4: four AVX2 lanes for about
-// the time of two SSE2 lanes), and where both children of the first split overlap the other node
-// (most splits in deep overlap) the two tests of the intermediate pairs are saved. Measured on
-// the shipped pair (README, "Splitting both nodes").
-inline constexpr double kSplitBothRatio = 4.0;
+// at once: their four child pairs are tested together (boxes_overlap_cross: four AVX2 lanes for
+// about the time of two SSE2 lanes), and where both children of the first split overlap the other
+// node (most splits in deep overlap) the two tests of the intermediate pairs are saved. Ratios 2,
+// 4, 8, 16 and any were measured on the shipped pair (README, "Splitting both nodes"): 8 was
+// fastest or within noise of it in every scenario and mode. (distance()'s search has its own.)
+inline constexpr double kSplitBothRatio = 8.0;
 
 enum class Split {
   a,            // A's children against B
@@ -154,7 +155,8 @@ Walk traverse_pairs(const Tree& ta, const Tree& tb, DescendRule rule, PairStack&
 // traverse_pairs with the box tests of a split made together: a split tests both child pairs at
 // once (test_children_a(a_first, b) for A's children a_first, a_first + 1 against b, or
 // test_children_b(a, b_first)), each returning {first pair overlaps, second pair overlaps}, or
-// all four of a split of both nodes (test_children_both(pairs) -> four overlaps, in order);
+// all four of a split of both nodes (test_children_both(na, nb, a_major) -> four overlaps in
+// both_children's order);
 // test(a, b) tests the root pair. The pairs are visited in traverse_pairs' order, and `box_tests`
 // counts what traverse_pairs' test would have counted. A walk that `can_stop` (first_hit) pushes
 // culled pairs too and counts the tests of the popped pairs only: it stops with tested pairs left
@@ -181,7 +183,7 @@ Walk traverse_pairs_tested(const Tree& ta, const Tree& tb, DescendRule rule, Tes
     const Split split = choose_split(na, nb, rule);
     if (splits_both(split)) {
       const std::array<NodePair, 4> kids = both_children(na, nb, split);
-      const std::array<bool, 4> overlap = test_children_both(kids);
+      const std::array<bool, 4> overlap = test_children_both(na, nb, split == Split::both_a_first);
       if (!can_stop) box_tests += 4;
       for (int k = 3; k >= 0; --k)
         if (can_stop || overlap[k]) stack.push({kids[k].a, kids[k].b, overlap[k]});

@@ -130,20 +130,23 @@ TEST(BoxTest, OnePairAndBothLanesDecideAsObbOverlap) {
     EXPECT_EQ(shared_a[1], reference(c.a, o.m, o.eb, c.margin));
     EXPECT_EQ(shared_b[0], expected);
     EXPECT_EQ(shared_b[1], reference(o.a, c.m, c.eb, c.margin));
-    // Four lanes (a split of both nodes: A's two children against B's two), on the AVX2 path
-    // where this CPU has it and on the two-lane fallback; this case in lane i % 4.
+    // Four lanes (a split of both nodes: A's two children against B's two, in either order), on
+    // the AVX2 path where this CPU has it and on the two-lane fallback; this case's A box first
+    // or second, against its own B box and another case's.
     const Case& p = all[(i * 104729 + 7) % all.size()];
-    const Case* four[4] = {&o, &p, &o, &p};
-    four[i % 4] = &c;
-    const CompactBox* const a4[4] = {&four[0]->a, &four[1]->a, &four[2]->a, &four[3]->a};
-    const query_detail::MappedBox* const m4[4] = {&four[0]->m, &four[1]->m, &four[2]->m, &four[3]->m};
-    const Eigen::Vector3f* const e4[4] = {&four[0]->eb, &four[1]->eb, &four[2]->eb, &four[3]->eb};
-    for (const bool avx2 : {false, query_detail::avx2_bounds_available()}) {
-      const auto l4 = query_detail::boxes_overlap4(a4, m4, e4, c.margin, avx2);
-      for (int k = 0; k < 4; ++k)
-        EXPECT_EQ(l4[k], reference(four[k]->a, four[k]->m, four[k]->eb, c.margin))
-            << "case " << i << ", lane " << k << (avx2 ? ", AVX2" : "");
-    }
+    const bool c_first = i % 2 == 0;
+    const CompactBox* const a2[2] = {c_first ? &c.a : &p.a, c_first ? &p.a : &c.a};
+    const query_detail::MappedBox* const m2[2] = {&c.m, &o.m};
+    const Eigen::Vector3f* const e2[2] = {&c.eb, &o.eb};
+    for (const bool a_major : {true, false})
+      for (const bool avx2 : {false, query_detail::avx2_bounds_available()}) {
+        const auto l4 = query_detail::boxes_overlap_cross(a2, m2, e2, a_major, c.margin, avx2);
+        for (int k = 0; k < 4; ++k) {
+          const int ia = a_major ? k / 2 : k % 2, ib = a_major ? k % 2 : k / 2;  // both_children's order
+          EXPECT_EQ(l4[k], reference(*a2[ia], *m2[ib], *e2[ib], c.margin))
+              << "case " << i << ", lane " << k << (a_major ? ", A major" : ", B major") << (avx2 ? ", AVX2" : "");
+        }
+      }
   }
   EXPECT_EQ(mismatches, 0);
   // Both outcomes well represented (the boundary cases alternate sides).

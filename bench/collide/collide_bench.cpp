@@ -295,7 +295,7 @@ const Recorded& recorded(int scenario, bool all_pairs) {
 // Args: scenario, mode. The box tests of collide_trees: B's box mapped into A's frame once per
 // query and node (the same cache), with the same allowance; the root pair alone, then each split
 // pair's two children at once (boxes_overlap2), or its four when both nodes split
-// (children_overlap_cross), as traverse_pairs_tested makes them. (A first_hit
+// (boxes_overlap_cross), as traverse_pairs_tested makes them. (A first_hit
 // query also tests, never pops and never counts the children of its last splits; so does this.)
 void BM_ReplayBoxTests(benchmark::State& state) {
   const Scene& sc = scene();
@@ -319,8 +319,8 @@ void BM_ReplayBoxTests(benchmark::State& state) {
         const Node& nb = tb.nodes[p.b];
         const query_detail::Split split = query_detail::choose_split(na, nb, DescendRule::larger_volume);
         if (query_detail::splits_both(split)) {
-          const auto o = query_detail::children_overlap_cross(ta, tb, na, nb, split == query_detail::Split::both_a_first,
-                                                              mapped, margin, avx2);
+          const auto o = query_detail::boxes_overlap_cross(query_detail::child_boxes(ta, tb, na, nb, mapped),
+                                                           split == query_detail::Split::both_a_first, margin, avx2);
           overlaps += o[0] + o[1] + o[2] + o[3];
           continue;
         }

@@ -149,70 +149,71 @@ inline void load_lanes(LaneBox<F64x2>& la, LaneBox<F64x2>& lb, const CompactBox&
 #endif
 }
 
-// Four pairs (A's a[k] against B's mapped mb[k] with half extents eb[k]): four AVX2 lanes when
-// `avx2` (avx2_bounds_available(), box_bounds4.hpp), else box_distance_bounds2 twice. Each value
-// equals box_distance_bound(a[k], *mb[k], *eb[k]) bit for bit on either path.
-[[nodiscard]] inline std::array<double, 4> box_distance_bounds4(const CompactBox* const (&a)[4],
-                                                                const MappedBox* const (&mb)[4],
-                                                                const Eigen::Vector3f* const (&eb)[4], bool avx2) {
-#ifdef TIGHTBVH_AVX2_BOUNDS
-  if (avx2) {
-    BoundInput pairs[4];
-    for (int k = 0; k < 4; ++k)
-      pairs[k] = {a[k]->center.data(), a[k]->axes.data(), a[k]->half_extents.data(),
-                  mb[k]->axes.data(),  mb[k]->center.data(), eb[k]->data()};
-    std::array<double, 4> bounds;
-    double out[4];
-    box_distance_bounds4_avx2(pairs, kSatEpsilon, out);
-    for (int k = 0; k < 4; ++k) bounds[k] = out[k];
-    return bounds;
-  }
-#endif
-  (void)avx2;
-  const auto lo = box_distance_bounds2(*a[0], *mb[0], *eb[0], *a[1], *mb[1], *eb[1]);
-  const auto hi = box_distance_bounds2(*a[2], *mb[2], *eb[2], *a[3], *mb[3], *eb[3]);
-  return {lo[0], lo[1], hi[0], hi[1]};
+// The boxes of the four child pairs of a split of both nodes: A's children's boxes a[0], a[1] (as
+// stored) and B's children's mapped into A's frame, mb[0], mb[1], with half extents eb[0], eb[1].
+struct ChildBoxes {
+  const CompactBox* a[2];
+  const MappedBox* mb[2];
+  const Eigen::Vector3f* eb[2];
+};
+
+// Those of nodes `na` of A and `nb` of B (both internal); mapped(b) -> B's const MappedBox&.
+template <class Mapped>
+[[nodiscard]] inline ChildBoxes child_boxes(const Tree& ta, const Tree& tb, const Node& na, const Node& nb,
+                                            Mapped&& mapped) {
+  return {{&ta.nodes[na.first].box, &ta.nodes[na.first + 1].box},
+          {&mapped(nb.first), &mapped(nb.first + 1)},
+          {&tb.nodes[nb.first].box.half_extents, &tb.nodes[nb.first + 1].box.half_extents}};
 }
 
-// The four child pairs of a split of both nodes, A's children's boxes a[0], a[1] against B's
-// mapped mb[0], mb[1] (half extents eb[0], eb[1]), in both_children's order (`a_major`, see
-// CrossInput in box_bounds4.hpp): {box_overlap(...)} of each, in four AVX2 lanes when `avx2`
-// (avx2_bounds_available()), else boxes_overlap2 twice; each lane decides as the one-pair test bit
-// for bit on either path.
-[[nodiscard]] inline std::array<bool, 4> boxes_overlap_cross(const CompactBox* const (&a)[2],
-                                                             const MappedBox* const (&mb)[2],
-                                                             const Eigen::Vector3f* const (&eb)[2], bool a_major,
-                                                             double margin, bool avx2) {
+#ifdef TIGHTBVH_AVX2_BOUNDS
+[[nodiscard]] inline CrossInput cross_input(const ChildBoxes& c) {
+  return {{c.a[0]->center.data(), c.a[1]->center.data()},
+          {c.a[0]->axes.data(), c.a[1]->axes.data()},
+          {c.a[0]->half_extents.data(), c.a[1]->half_extents.data()},
+          {c.mb[0]->axes.data(), c.mb[1]->axes.data()},
+          {c.mb[0]->center.data(), c.mb[1]->center.data()},
+          {c.eb[0]->data(), c.eb[1]->data()}};
+}
+#endif
+
+// The four pairs of `c` in both_children's order (traverse.hpp; `a_major`: a0 b0, a0 b1, a1 b0,
+// a1 b1, else a0 b0, a1 b0, a0 b1, a1 b1) as two two-lane calls: {(first, second), (third, fourth)}.
+template <class TwoPairs>
+[[nodiscard]] inline auto two_by_two(const ChildBoxes& c, bool a_major, TwoPairs&& two) {
+  const int a1 = a_major ? 0 : 1, b1 = a_major ? 1 : 0;  // pair 1: (a[a1], b[b1]); pair 2 the other
+  const auto lo = two(*c.a[0], *c.mb[0], *c.eb[0], *c.a[a1], *c.mb[b1], *c.eb[b1]);
+  const auto hi = two(*c.a[1 - a1], *c.mb[1 - b1], *c.eb[1 - b1], *c.a[1], *c.mb[1], *c.eb[1]);
+  return std::array{lo[0], lo[1], hi[0], hi[1]};
+}
+
+// The four pairs' box tests, {box_overlap(...)} of each in both_children's order: four AVX2 lanes
+// when `avx2` (avx2_bounds_available()), else boxes_overlap2 twice; each lane decides as the
+// one-pair test bit for bit on either path.
+[[nodiscard]] inline std::array<bool, 4> boxes_overlap_cross(const ChildBoxes& c, bool a_major, double margin,
+                                                             bool avx2) {
 #ifdef TIGHTBVH_AVX2_BOUNDS
   if (avx2) {
-    const CrossInput in{{a[0]->center.data(), a[1]->center.data()},
-                        {a[0]->axes.data(), a[1]->axes.data()},
-                        {a[0]->half_extents.data(), a[1]->half_extents.data()},
-                        {mb[0]->axes.data(), mb[1]->axes.data()},
-                        {mb[0]->center.data(), mb[1]->center.data()},
-                        {eb[0]->data(), eb[1]->data()}};
-    const int separated = boxes_separated_cross_avx2(in, a_major, margin, kSatEpsilon);
+    const int separated = boxes_separated_cross_avx2(cross_input(c), a_major, margin, kSatEpsilon);
     return {(separated & 1) == 0, (separated & 2) == 0, (separated & 4) == 0, (separated & 8) == 0};
   }
 #endif
   (void)avx2;
-  const int a1 = a_major ? 0 : 1, b1 = a_major ? 1 : 0;  // pair 1: (a[a1], b[b1]); pair 2 the other
-  const auto lo = boxes_overlap2(*a[0], *mb[0], *eb[0], *a[a1], *mb[b1], *eb[b1], margin);
-  const auto hi = boxes_overlap2(*a[1 - a1], *mb[1 - b1], *eb[1 - b1], *a[1], *mb[1], *eb[1], margin);
-  return {lo[0], lo[1], hi[0], hi[1]};
+  return two_by_two(c, a_major, [&](const auto&... boxes) { return boxes_overlap2(boxes..., margin); });
 }
 
-// The four child pairs of a split of both nodes `na` of A and `nb` of B, tested at once in
-// both_children's order (traverse.hpp): boxes_overlap_cross on the children's boxes, B's mapped
-// into A's frame by mapped(b) -> const MappedBox&.
-template <class Mapped>
-[[nodiscard]] inline std::array<bool, 4> children_overlap_cross(const Tree& ta, const Tree& tb, const Node& na,
-                                                                const Node& nb, bool a_major, Mapped&& mapped,
-                                                                double margin, bool avx2) {
-  const CompactBox* const a[2] = {&ta.nodes[na.first].box, &ta.nodes[na.first + 1].box};
-  const MappedBox* const mb[2] = {&mapped(nb.first), &mapped(nb.first + 1)};
-  const Eigen::Vector3f* const eb[2] = {&tb.nodes[nb.first].box.half_extents, &tb.nodes[nb.first + 1].box.half_extents};
-  return boxes_overlap_cross(a, mb, eb, a_major, margin, avx2);
+// The four pairs' distance bounds, box_distance_bound(...) of each in both_children's order: four
+// AVX2 lanes when `avx2`, else box_distance_bounds2 twice; equal bit for bit on either path.
+[[nodiscard]] inline std::array<double, 4> box_distance_bounds_cross(const ChildBoxes& c, bool a_major, bool avx2) {
+#ifdef TIGHTBVH_AVX2_BOUNDS
+  if (avx2) {
+    double bounds[4];
+    box_distance_bounds_cross_avx2(cross_input(c), a_major, kSatEpsilon, bounds);
+    return {bounds[0], bounds[1], bounds[2], bounds[3]};
+  }
+#endif
+  (void)avx2;
+  return two_by_two(c, a_major, [](const auto&... boxes) { return box_distance_bounds2(boxes...); });
 }
 
 }  // namespace tightbvh::query_detail

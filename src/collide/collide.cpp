@@ -70,7 +70,7 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
   // A split of both nodes: its four child pairs at once (AVX2 lanes where the CPU has them).
   const bool avx2 = avx2_bounds_available();
   const auto children_both = [&](const Node& na, const Node& nb, bool a_major) {
-    return children_overlap_cross(ta, tb, na, nb, a_major, mapped_b, margin, avx2);
+    return boxes_overlap_cross(child_boxes(ta, tb, na, nb, mapped_b), a_major, margin, avx2);
   };
   MappedChunk mapped;
   const auto triangles_touch = [&](std::uint32_t ia_node, std::uint32_t ib_node) {

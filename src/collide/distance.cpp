@@ -105,9 +105,8 @@ class DistanceSearch {
       const query_detail::Split split = query_detail::choose_split(na, nb, options_.descend);
       if (query_detail::splits_both(split)) {
         const std::array<NodePair, 4> kids = query_detail::both_children(na, nb, split);
-        const std::array<bool, 4> overlap = query_detail::children_overlap_cross(
-            ta_, tb_, na, nb, split == query_detail::Split::both_a_first,
-            [&](std::uint32_t ib) -> const auto& { return mapped(ib); }, margin_, avx2_);
+        const bool a_major = split == query_detail::Split::both_a_first;
+        const std::array<bool, 4> overlap = query_detail::boxes_overlap_cross(child_boxes(na, nb), a_major, margin_, avx2_);
         stats_.node_pairs += 4;
         for (int k = 3; k >= 0; --k)  // collide's order: the first child pair is visited first
           if (overlap[k]) stack.push(kids[k]);
@@ -182,18 +181,16 @@ class DistanceSearch {
   // allowance covers the projected radii.
   [[nodiscard]] double adjust(double bound) const { return std::max(0.0, bound * (1.0 - kCompactBoxSlack) - margin_); }
 
-  // Four pairs' bounds at once (box_distance_bounds4: AVX2 lanes where the CPU has them).
-  void lower_bounds4(BoundedPair (&pairs)[4]) {
+  // The boxes of the four child pairs of internal nodes na and nb.
+  [[nodiscard]] query_detail::ChildBoxes child_boxes(const Node& na, const Node& nb) {
+    return query_detail::child_boxes(ta_, tb_, na, nb, [&](std::uint32_t ib) -> const auto& { return mapped(ib); });
+  }
+
+  // The bounds of the four child pairs of na and nb at once (AVX2 lanes where the CPU has them),
+  // `pairs` in both_children's A-major order.
+  void lower_bounds4(const Node& na, const Node& nb, BoundedPair (&pairs)[4]) {
     stats_.node_pairs += 4;
-    const CompactBox* a[4];
-    const query_detail::MappedBox* m[4];
-    const Eigen::Vector3f* eb[4];
-    for (int k = 0; k < 4; ++k) {
-      a[k] = &ta_.nodes[pairs[k].a].box;
-      m[k] = &mapped(pairs[k].b);
-      eb[k] = &tb_.nodes[pairs[k].b].box.half_extents;
-    }
-    const auto raw = query_detail::box_distance_bounds4(a, m, eb, avx2_);
+    const auto raw = query_detail::box_distance_bounds_cross(child_boxes(na, nb), true, avx2_);
     for (int k = 0; k < 4; ++k) pairs[k].bound = adjust(raw[k]);
   }
 
@@ -239,7 +236,7 @@ class DistanceSearch {
         kids[0] = {na.first, nb.first, 0.0}, kids[1] = {na.first, nb.first + 1, 0.0};
         kids[2] = {na.first + 1, nb.first, 0.0}, kids[3] = {na.first + 1, nb.first + 1, 0.0};
         count = 4;
-        lower_bounds4(kids);
+        lower_bounds4(na, nb, kids);
       } else {
         if (query_detail::splits_a(na, nb, options_.descend)) {
           kids[0] = {na.first, np.b, 0.0}, kids[1] = {na.first + 1, np.b, 0.0};

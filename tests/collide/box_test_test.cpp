@@ -135,15 +135,13 @@ TEST(BoxTest, OnePairAndBothLanesDecideAsObbOverlap) {
     // or second, against its own B box and another case's.
     const Case& p = all[(i * 104729 + 7) % all.size()];
     const bool c_first = i % 2 == 0;
-    const CompactBox* const a2[2] = {c_first ? &c.a : &p.a, c_first ? &p.a : &c.a};
-    const query_detail::MappedBox* const m2[2] = {&c.m, &o.m};
-    const Eigen::Vector3f* const e2[2] = {&c.eb, &o.eb};
+    const query_detail::ChildBoxes boxes{{c_first ? &c.a : &p.a, c_first ? &p.a : &c.a}, {&c.m, &o.m}, {&c.eb, &o.eb}};
     for (const bool a_major : {true, false})
       for (const bool avx2 : {false, query_detail::avx2_bounds_available()}) {
-        const auto l4 = query_detail::boxes_overlap_cross(a2, m2, e2, a_major, c.margin, avx2);
+        const auto l4 = query_detail::boxes_overlap_cross(boxes, a_major, c.margin, avx2);
         for (int k = 0; k < 4; ++k) {
           const int ia = a_major ? k / 2 : k % 2, ib = a_major ? k % 2 : k / 2;  // both_children's order
-          EXPECT_EQ(l4[k], reference(*a2[ia], *m2[ib], *e2[ib], c.margin))
+          EXPECT_EQ(l4[k], reference(*boxes.a[ia], *boxes.mb[ib], *boxes.eb[ib], c.margin))
               << "case " << i << ", lane " << k << (a_major ? ", A major" : ", B major") << (avx2 ? ", AVX2" : "");
         }
       }
@@ -154,11 +152,12 @@ TEST(BoxTest, OnePairAndBothLanesDecideAsObbOverlap) {
   EXPECT_LT(overlapping, 16000);
 }
 
-// distance()'s bound in lanes (box_distance_bound, box_distance_bounds2, box_distance_bounds4):
+// distance()'s bound in lanes (box_distance_bound, box_distance_bounds2, box_distance_bounds_cross):
 // the scalar lane equals obb_distance_lower_bound() on the same box frame up to rounding (1e-12
 // relative to the boxes' size; the query shrinks it by kCompactBoxSlack = 1e-5), and each SIMD
-// lane (two SSE2, four AVX2) is the scalar lane bit for bit, next to any other pair. Cases: the boxes above, and the same pushed apart (B's
-// center moved away from A's by 1x and 3x their offset), so most bounds are positive.
+// lane (two SSE2, four AVX2) is the scalar lane bit for bit, next to any other pair. Cases: the
+// boxes above, and the same pushed apart (B's center moved away from A's by 1x and 3x their
+// offset), so most bounds are positive.
 TEST(BoxTest, DistanceBoundLanesMatchObbDistanceLowerBound) {
   std::vector<Case> all;
   for (const Case& c : cases(6000, 9)) {
@@ -200,16 +199,16 @@ TEST(BoxTest, DistanceBoundLanesMatchObbDistanceLowerBound) {
     // Four lanes (a split of both nodes: A's two children against B's two), on the AVX2 path
     // where this CPU has it and on the two-lane fallback.
     const Case& p = all[(i * 104729 + 7) % all.size()];
-    const CompactBox* const a4[4] = {&c.a, &c.a, &p.a, &p.a};
-    const query_detail::MappedBox* const m4[4] = {&c.m, &o.m, &c.m, &o.m};
-    const Eigen::Vector3f* const e4[4] = {&c.eb, &o.eb, &c.eb, &o.eb};
-    for (const bool avx2 : {false, query_detail::avx2_bounds_available()}) {
-      const auto l4 = query_detail::box_distance_bounds4(a4, m4, e4, avx2);
-      EXPECT_EQ(l4[0], one) << "case " << i << (avx2 ? ", AVX2" : "");
-      EXPECT_EQ(l4[1], shared_a[1]) << "case " << i << (avx2 ? ", AVX2" : "");
-      EXPECT_EQ(l4[2], query_detail::box_distance_bound(p.a, c.m, c.eb)) << "case " << i << (avx2 ? ", AVX2" : "");
-      EXPECT_EQ(l4[3], query_detail::box_distance_bound(p.a, o.m, o.eb)) << "case " << i << (avx2 ? ", AVX2" : "");
-    }
+    const query_detail::ChildBoxes boxes{{&c.a, &p.a}, {&c.m, &o.m}, {&c.eb, &o.eb}};
+    for (const bool a_major : {true, false})
+      for (const bool avx2 : {false, query_detail::avx2_bounds_available()}) {
+        const auto l4 = query_detail::box_distance_bounds_cross(boxes, a_major, avx2);
+        for (int k = 0; k < 4; ++k) {
+          const int ia = a_major ? k / 2 : k % 2, ib = a_major ? k % 2 : k / 2;  // both_children's order
+          EXPECT_EQ(l4[k], query_detail::box_distance_bound(*boxes.a[ia], *boxes.mb[ib], *boxes.eb[ib]))
+              << "case " << i << ", lane " << k << (a_major ? ", A major" : ", B major") << (avx2 ? ", AVX2" : "");
+        }
+      }
   }
   EXPECT_GT(positive, static_cast<int>(all.size()) / 3);
   RecordProperty("avx2_lanes_tested", query_detail::avx2_bounds_available() ? "yes" : "no (CPU or build without them)");

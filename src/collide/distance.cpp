@@ -170,9 +170,11 @@ class DistanceSearch {
   // allowance covers the projected radii.
   [[nodiscard]] double adjust(double bound) const { return std::max(0.0, bound * (1.0 - kCompactBoxSlack) - margin_); }
 
-  // Four pairs' bounds at once (box_distance_bounds4: AVX2 lanes where the CPU has them).
-  void lower_bounds4(BoundedPair (&pairs)[4]) {
-    stats_.node_pairs += 4;
+  // Three or four pairs' bounds at once (box_distance_bounds4: AVX2 lanes where the CPU has
+  // them); with three, the last lane repeats the third pair.
+  void lower_bounds4(BoundedPair (&pairs)[4], int count = 4) {
+    stats_.node_pairs += count;
+    if (count == 3) pairs[3] = pairs[2];
     const CompactBox* a[4];
     const query_detail::MappedBox* m[4];
     const Eigen::Vector3f* eb[4];
@@ -194,6 +196,27 @@ class DistanceSearch {
     const double sa = query_detail::descend_size(na.box, options_.descend);
     const double sb = query_detail::descend_size(nb.box, options_.descend);
     return sa <= kSplitBothRatio * sb && sb <= kSplitBothRatio * sa;
+  }
+
+  // The children of `n`, the node a single split splits, each replaced by its own two children
+  // when the descend rule would split it again next (it is not a leaf and not smaller than
+  // `other`, or `other` is a leaf): three or four pairs for one call of the four-lane bound, and
+  // one step of the search, instead of two calls of the two-lane bound and up to three steps.
+  // Returns how many pairs it put in `kids` (2 to 4).
+  template <class MakePair>
+  int deep_children(const Tree& t, const Node& n, const Node& other, BoundedPair (&kids)[4], MakePair&& make) const {
+    int count = 0;
+    const double other_size = other.is_leaf() ? -1.0 : query_detail::descend_size(other.box, options_.descend);
+    for (std::uint32_t c = n.first; c < n.first + 2; ++c) {
+      const Node& child = t.nodes[c];
+      if (!child.is_leaf() && query_detail::descend_size(child.box, options_.descend) >= other_size) {
+        kids[count++] = make(child.first);
+        kids[count++] = make(child.first + 1);
+      } else {
+        kids[count++] = make(c);
+      }
+    }
+    return count;
   }
 
   // Phase 2: best first (a min-heap of node pairs by bound), so that only pairs whose bound is
@@ -220,7 +243,8 @@ class DistanceSearch {
         continue;
       }
       // The children: all four pairs when both nodes split (one call of the four-lane bound),
-      // else the two of the node the descend rule splits.
+      // else those of the node the descend rule splits, two levels down where it would split
+      // them again (deep_children).
       BoundedPair kids[4];
       int count = 2;
       if (split_both(na, nb)) {
@@ -229,13 +253,15 @@ class DistanceSearch {
         count = 4;
         lower_bounds4(kids);
       } else {
-        if (query_detail::splits_a(na, nb, options_.descend)) {
-          kids[0] = {na.first, np.b, 0.0}, kids[1] = {na.first + 1, np.b, 0.0};
+        const bool split_a = query_detail::splits_a(na, nb, options_.descend);
+        count = split_a ? deep_children(ta_, na, nb, kids, [&](std::uint32_t c) { return BoundedPair{c, np.b, 0.0}; })
+                        : deep_children(tb_, nb, na, kids, [&](std::uint32_t c) { return BoundedPair{np.a, c, 0.0}; });
+        if (count == 2) {
+          const auto bounds = lower_bounds(kids[0].a, kids[0].b, kids[1].a, kids[1].b);
+          kids[0].bound = bounds[0], kids[1].bound = bounds[1];
         } else {
-          kids[0] = {np.a, nb.first, 0.0}, kids[1] = {np.a, nb.first + 1, 0.0};
+          lower_bounds4(kids, count);
         }
-        const auto bounds = lower_bounds(kids[0].a, kids[0].b, kids[1].a, kids[1].b);
-        kids[0].bound = bounds[0], kids[1].bound = bounds[1];
       }
       // The best child (the first on a tie, as the heap's order mostly had it); the others wait.
       int lo_index = 0;

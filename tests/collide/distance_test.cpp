@@ -74,6 +74,20 @@ TEST(Distance, MatchesBruteForceSmallSynthetic) {
   EXPECT_GT(expect_matches_brute_force(cube(Vec3(-0.5, -0.5, -0.5)), random_soup(40, 3), 13, 8), 0);
 }
 
+TEST(Distance, MatchesBruteForceAgainstFewTriangles) {
+  // One tree a single leaf or a few nodes against a deep one: every split of the search splits
+  // the deep tree, two levels at once where a child is not a leaf, and with three triangles the
+  // root's children are a leaf and an inner node (three pairs bounded at once).
+  const Mesh sphere = uv_sphere(10, 14);
+  const Mesh soup = random_soup(150, 4);
+  for (const int n : {1, 2, 3, 5}) {
+    SCOPED_TRACE(std::to_string(n) + " triangles");
+    const Mesh few = random_soup(n, 30 + static_cast<std::uint64_t>(n), 0.6);
+    expect_matches_brute_force(sphere, few, 40 + static_cast<std::uint64_t>(n), 1, {0.5, 0.9, 1.1, 1.5, 3.0});
+    expect_matches_brute_force(few, soup, 50 + static_cast<std::uint64_t>(n), 1, {0.5, 0.9, 1.1, 1.5, 3.0});
+  }
+}
+
 TEST(Distance, MatchesBruteForceShippedMeshes) {
   // knot1 against elephant (every 8th and 6th triangle: brute force stays fast), overlapping,
   // near and far poses.

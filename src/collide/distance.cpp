@@ -353,6 +353,35 @@ class DistanceSearch {
   // distance apart (plus the rounding allowance), no point of one is closer to the other, and the
   // exact distance is skipped. That rules out 50-65% of the pairs for 6 dot products each; the
   // answer is the same bit for bit, as a skipped pair could not have replaced the best.
+  // Whether the triangles are at least `threshold` apart along one of their separating axes: the
+  // two normals and the nine cross products of an edge of each (the closest pair of disjoint
+  // triangles is vertex-face, along a normal, or edge-edge, along a cross product, unless it
+  // ends at a vertex of both or at an edge's end). Of the pairs the best pair's direction does
+  // not rule out, this rules out about a third, at a tenth of an exact distance. Each axis n is
+  // unnormalised: the gap g between the projections is compared with threshold |n| squared, so
+  // there is no root and no division; where either square could underflow (g or |n| tiny) the
+  // pair is kept. Rounding in the dot products is relative to |n| and the coordinates, which the
+  // caller's allowance in `threshold` covers as for the best pair's direction.
+  static bool apart_by_sat(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& q0, const Vec3& q1,
+                           const Vec3& q2, double threshold) {
+    const double t2 = threshold * threshold;
+    // All six corners are projected, none assumed on a plane or edge: a rounded normal or cross
+    // product of nearly parallel vectors is not quite orthogonal to them.
+    const auto apart = [&](const Vec3& n) {
+      const double a0 = p0.dot(n), a1 = p1.dot(n), a2 = p2.dot(n);
+      const double b0 = q0.dot(n), b1 = q1.dot(n), b2 = q2.dot(n);
+      const double gap = std::max(std::min({b0, b1, b2}) - std::max({a0, a1, a2}),
+                                  std::min({a0, a1, a2}) - std::max({b0, b1, b2}));
+      const double rhs = t2 * n.squaredNorm();
+      return gap > 0.0 && rhs > 0.0 && gap * gap >= rhs;
+    };
+    const Vec3 ep[3] = {p1 - p0, p2 - p1, p0 - p2}, eq[3] = {q1 - q0, q2 - q1, q0 - q2};
+    if (apart(ep[0].cross(ep[1])) || apart(eq[0].cross(eq[1]))) return true;
+    for (const Vec3& e : ep)
+      for (const Vec3& f : eq)
+        if (apart(e.cross(f))) return true;
+    return false;
+  }
   void leaves(std::uint32_t ia_node, std::uint32_t ib_node) {
     const Node& na = ta_.nodes[ia_node];
     const Node& nb = tb_.nodes[ib_node];
@@ -372,6 +401,9 @@ class DistanceSearch {
                                 ma_.vertices[tri_a[2]].dot(toward_b_)};
           const double gap = std::max(q_low - std::max({pv[0], pv[1], pv[2]}), std::min({pv[0], pv[1], pv[2]}) - q_high);
           if (gap >= best_.distance + direction_slack_) continue;
+          if (apart_by_sat(ma_.vertices[tri_a[0]], ma_.vertices[tri_a[1]], ma_.vertices[tri_a[2]], q0, q1, q2,
+                           best_.distance + direction_slack_))
+            continue;  // the same answer bit for bit, as for the direction above
         }
         ++stats_.triangle_pairs;
         // No pair here touches (touching() tested every pair whose boxes overlap): the touching

@@ -359,12 +359,16 @@ class DistanceSearch {
   // ends at a vertex of both or at an edge's end). Of the pairs the best pair's direction does
   // not rule out, this rules out about a third, at a tenth of an exact distance. Each axis n is
   // unnormalised: the gap g between the projections is compared with threshold |n| squared, so
-  // there is no root and no division; where either square could underflow (g or |n| tiny) the
-  // pair is kept. Rounding in the dot products is relative to |n| and the coordinates, which the
-  // caller's allowance in `threshold` covers as for the best pair's direction.
+  // there is no root and no division. Rounding in the dot products is relative to |n| and the
+  // coordinates, which the caller's allowance in `threshold` covers as for the best pair's
+  // direction.
   static bool apart_by_sat(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& q0, const Vec3& q1,
                            const Vec3& q2, double threshold) {
+    // Squares kept within the normal range, where each product rounds by a relative 2^-53 at
+    // most: below it (a threshold or an axis of ~1e-154) or at infinity the pair is kept.
+    constexpr double kLeast = std::numeric_limits<double>::min();
     const double t2 = threshold * threshold;
+    if (!(t2 >= kLeast)) return false;
     // All six corners are projected, none assumed on a plane or edge: a rounded normal or cross
     // product of nearly parallel vectors is not quite orthogonal to them.
     const auto apart = [&](const Vec3& n) {
@@ -373,7 +377,7 @@ class DistanceSearch {
       const double gap = std::max(std::min({b0, b1, b2}) - std::max({a0, a1, a2}),
                                   std::min({a0, a1, a2}) - std::max({b0, b1, b2}));
       const double rhs = t2 * n.squaredNorm();
-      return gap > 0.0 && rhs > 0.0 && gap * gap >= rhs;
+      return gap > 0.0 && rhs >= kLeast && rhs <= std::numeric_limits<double>::max() && gap * gap >= rhs;
     };
     const Vec3 ep[3] = {p1 - p0, p2 - p1, p0 - p2}, eq[3] = {q1 - q0, q2 - q1, q0 - q2};
     if (apart(ep[0].cross(ep[1])) || apart(eq[0].cross(eq[1]))) return true;

@@ -13,6 +13,17 @@
 
 namespace tightbvh::query_detail {
 
+// One pair: A's box as stored (float center, axes column-major, half extents) and B's box mapped
+// into A's frame (double axes column-major and center) with B's float half extents.
+struct BoundInput {
+  const float* a_center;
+  const float* a_axes;
+  const float* a_half;
+  const double* b_axes;
+  const double* b_center;
+  const float* b_half;
+};
+
 // The four child pairs of a split of both nodes: A's children's boxes a[0], a[1] (as stored)
 // against B's children's boxes b[0], b[1] (mapped into A's frame, B's half extents), pair k in
 // traverse.hpp's both_children order: `a_major` (a0 b0, a0 b1, a1 b0, a1 b1) or not (a0 b0,
@@ -26,7 +37,10 @@ struct CrossInput {
   const float* b_half[2];
 };
 
-// Defined where TIGHTBVH_AVX2_BOUNDS is. box_separated over those four lanes: bit k set when pair
+// Defined where TIGHTBVH_AVX2_BOUNDS is: box_distance_bound over four pairs, each lane loaded from
+// its own pointers (any four pairs).
+void box_distance_bounds4_avx2(const BoundInput (&pairs)[4], double eps, double (&bounds)[4]);
+// Defined there too. box_separated over those four lanes: bit k set when pair
 // k's boxes are separated by more than `margin` (obb_overlap()'s negation with kSatEpsilon = eps).
 [[nodiscard]] int boxes_separated_cross_avx2(const CrossInput& boxes, bool a_major, double margin, double eps);
 // box_distance_bound over those four lanes (distance()'s bound with kSatEpsilon = eps).

@@ -33,11 +33,36 @@ inline Mask4 operator|(Mask4 x, Mask4 y) { return {_mm256_or_pd(x.v, y.v)}; }
 inline Mask4 lane_gt(F64x4 x, F64x4 y) { return {_mm256_cmp_pd(x.v, y.v, _CMP_GT_OQ)}; }
 inline bool all_lanes(Mask4 m) { return _mm256_movemask_pd(m.v) == 15; }
 
+// The four pairs' values at one offset, widened exactly to double.
+inline F64x4 gather(const float* const (&p)[4], int k) { return {_mm256_cvtps_pd(_mm_set_ps(p[3][k], p[2][k], p[1][k], p[0][k]))}; }
+inline F64x4 gather(const double* const (&p)[4], int k) { return {_mm256_set_pd(p[3][k], p[2][k], p[1][k], p[0][k])}; }
+
 }  // namespace
 
 template <>
 inline F64x4 lane_splat<F64x4>(double x) {
   return {_mm256_set1_pd(x)};
+}
+
+void box_distance_bounds4_avx2(const BoundInput (&pairs)[4], double eps, double (&bounds)[4]) {
+  const float* const a_center[4] = {pairs[0].a_center, pairs[1].a_center, pairs[2].a_center, pairs[3].a_center};
+  const float* const a_axes[4] = {pairs[0].a_axes, pairs[1].a_axes, pairs[2].a_axes, pairs[3].a_axes};
+  const float* const a_half[4] = {pairs[0].a_half, pairs[1].a_half, pairs[2].a_half, pairs[3].a_half};
+  const double* const b_axes[4] = {pairs[0].b_axes, pairs[1].b_axes, pairs[2].b_axes, pairs[3].b_axes};
+  const double* const b_center[4] = {pairs[0].b_center, pairs[1].b_center, pairs[2].b_center, pairs[3].b_center};
+  const float* const b_half[4] = {pairs[0].b_half, pairs[1].b_half, pairs[2].b_half, pairs[3].b_half};
+  LaneBox<F64x4> a, b;
+  for (int i = 0; i < 9; ++i) {  // axis i / 3, component i % 3: column-major storage
+    a.axes[i] = gather(a_axes, i);
+    b.axes[i] = gather(b_axes, i);
+  }
+  for (int k = 0; k < 3; ++k) {
+    a.center[k] = gather(a_center, k);
+    a.half[k] = gather(a_half, k);
+    b.center[k] = gather(b_center, k);
+    b.half[k] = gather(b_half, k);
+  }
+  _mm256_storeu_pd(bounds, box_distance_bound<F64x4>(a, b, lane_splat<F64x4>(eps)).v);
 }
 
 namespace {

@@ -149,6 +149,31 @@ inline void load_lanes(LaneBox<F64x2>& la, LaneBox<F64x2>& lb, const CompactBox&
 #endif
 }
 
+// Four pairs (A's a[k] against B's mapped mb[k] with half extents eb[k]): four AVX2 lanes when
+// `avx2` (avx2_bounds_available(), box_bounds4.hpp), else box_distance_bounds2 twice. Each value
+// equals box_distance_bound(a[k], *mb[k], *eb[k]) bit for bit on either path.
+[[nodiscard]] inline std::array<double, 4> box_distance_bounds4(const CompactBox* const (&a)[4],
+                                                                const MappedBox* const (&mb)[4],
+                                                                const Eigen::Vector3f* const (&eb)[4], bool avx2) {
+#ifdef TIGHTBVH_AVX2_BOUNDS
+  if (avx2) {
+    BoundInput pairs[4];
+    for (int k = 0; k < 4; ++k)
+      pairs[k] = {a[k]->center.data(), a[k]->axes.data(), a[k]->half_extents.data(),
+                  mb[k]->axes.data(),  mb[k]->center.data(), eb[k]->data()};
+    std::array<double, 4> bounds;
+    double out[4];
+    box_distance_bounds4_avx2(pairs, kSatEpsilon, out);
+    for (int k = 0; k < 4; ++k) bounds[k] = out[k];
+    return bounds;
+  }
+#endif
+  (void)avx2;
+  const auto lo = box_distance_bounds2(*a[0], *mb[0], *eb[0], *a[1], *mb[1], *eb[1]);
+  const auto hi = box_distance_bounds2(*a[2], *mb[2], *eb[2], *a[3], *mb[3], *eb[3]);
+  return {lo[0], lo[1], hi[0], hi[1]};
+}
+
 // The boxes of the four child pairs of a split of both nodes: A's children's boxes a[0], a[1] (as
 // stored) and B's children's mapped into A's frame, mb[0], mb[1], with half extents eb[0], eb[1].
 struct ChildBoxes {

@@ -152,7 +152,8 @@ TEST(BoxTest, OnePairAndBothLanesDecideAsObbOverlap) {
   EXPECT_LT(overlapping, 16000);
 }
 
-// distance()'s bound in lanes (box_distance_bound, box_distance_bounds2, box_distance_bounds_cross):
+// distance()'s bound in lanes (box_distance_bound, box_distance_bounds2, box_distance_bounds4,
+// box_distance_bounds_cross):
 // the scalar lane equals obb_distance_lower_bound() on the same box frame up to rounding (1e-12
 // relative to the boxes' size; the query shrinks it by kCompactBoxSlack = 1e-5), and each SIMD
 // lane (two SSE2, four AVX2) is the scalar lane bit for bit, next to any other pair. Cases: the
@@ -199,6 +200,17 @@ TEST(BoxTest, DistanceBoundLanesMatchObbDistanceLowerBound) {
     // Four lanes (a split of both nodes: A's two children against B's two), on the AVX2 path
     // where this CPU has it and on the two-lane fallback.
     const Case& p = all[(i * 104729 + 7) % all.size()];
+    // Any four pairs, each lane from its own pointers (distance()'s deeper single splits).
+    const CompactBox* const a4[4] = {&c.a, &p.a, &o.a, &c.a};
+    const query_detail::MappedBox* const m4[4] = {&c.m, &o.m, &p.m, &p.m};
+    const Eigen::Vector3f* const e4[4] = {&c.eb, &o.eb, &p.eb, &p.eb};
+    for (const bool avx2 : {false, query_detail::avx2_bounds_available()}) {
+      const auto l4 = query_detail::box_distance_bounds4(a4, m4, e4, avx2);
+      for (int k = 0; k < 4; ++k)
+        EXPECT_EQ(l4[k], query_detail::box_distance_bound(*a4[k], *m4[k], *e4[k]))
+            << "case " << i << ", lane " << k << (avx2 ? ", AVX2" : "");
+    }
+    // A split of both nodes: two boxes a side, in either order.
     const query_detail::ChildBoxes boxes{{&c.a, &p.a}, {&c.m, &o.m}, {&c.eb, &o.eb}};
     for (const bool a_major : {true, false})
       for (const bool avx2 : {false, query_detail::avx2_bounds_available()}) {

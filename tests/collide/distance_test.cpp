@@ -74,6 +74,44 @@ TEST(Distance, MatchesBruteForceSmallSynthetic) {
   EXPECT_GT(expect_matches_brute_force(cube(Vec3(-0.5, -0.5, -0.5)), random_soup(40, 3), 13, 8), 0);
 }
 
+TEST(Distance, MatchesBruteForceAgainstFewTriangles) {
+  // One tree a single leaf or a few nodes against a deep one: every split of the search splits
+  // the deep tree, two levels at once where a child is not a leaf, and with three triangles the
+  // root's children are a leaf and an inner node (three pairs bounded at once).
+  const Mesh sphere = uv_sphere(10, 14);
+  const Mesh soup = random_soup(150, 4);
+  for (const int n : {1, 2, 3, 5}) {
+    SCOPED_TRACE(std::to_string(n) + " triangles");
+    const Mesh few = random_soup(n, 30 + static_cast<std::uint64_t>(n), 0.6);
+    expect_matches_brute_force(sphere, few, 40 + static_cast<std::uint64_t>(n), 1, {0.5, 0.9, 1.1, 1.5, 3.0});
+    expect_matches_brute_force(few, soup, 50 + static_cast<std::uint64_t>(n), 1, {0.5, 0.9, 1.1, 1.5, 3.0});
+  }
+}
+
+TEST(Distance, MatchesBruteForceOnSlivers) {
+  // Triangles whose third corner lies within 1e-7..1e-12 of their first edge's line, and pairs
+  // of nearly parallel edges: their normals and edge cross products round far from orthogonal
+  // to the edges, which the search's separating-axis test of triangle pairs must allow for.
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto slivers = [&](int n) {
+    Mesh m;
+    for (int i = 0; i < n; ++i) {
+      const Vec3 a(u(rng), u(rng), u(rng));
+      const Vec3 b = a + 0.5 * Vec3(u(rng), u(rng), u(rng));
+      const Vec3 off = Vec3(u(rng), u(rng), u(rng)).cross(b - a);
+      const Vec3 c = a + (0.3 + 0.4 * u(rng)) * (b - a) + std::pow(10.0, -7 - i % 6) * off;
+      const auto k = static_cast<std::uint32_t>(m.vertices.size());
+      m.vertices.insert(m.vertices.end(), {a, b, c});
+      m.triangles.push_back({k, k + 1, k + 2});
+    }
+    return m;
+  };
+  const Mesh a = slivers(60), b = slivers(40);
+  expect_matches_brute_force(a, b, 60, 1, {0.3, 0.6, 0.9, 1.0, 1.1, 1.3});
+  expect_matches_brute_force(a, random_soup(50, 5), 61, 1, {0.3, 0.6, 0.9, 1.0, 1.1, 1.3});
+}
+
 TEST(Distance, MatchesBruteForceShippedMeshes) {
   // knot1 against elephant (every 8th and 6th triangle: brute force stays fast), overlapping,
   // near and far poses.

@@ -10,6 +10,7 @@
 #include <variant>
 #include <vector>
 
+#include "tightbvh/aabb.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/fit.hpp"
 #include "tightbvh/obb.hpp"
@@ -99,10 +100,11 @@ template <class Vertices>
   FitOptions fit = options;
   fit.method = method;
   Obb box;
+  std::span<const Vec3> distinct;  // the node's distinct vertices, when the method asked for them
   if (method == FitMethod::pca || method == FitMethod::pca_vertex) {
     box = fit_triangles(corners, fit, workspace);
   } else {
-    const std::span<const Vec3> distinct = vertices();
+    distinct = vertices();
     const auto* a = std::get_if<AutoFit>(&fitter);
     if (a && method == a->tight && a->column_extremes_above != 0 && distinct.size() > a->column_extremes_above) {
       std::vector<Vec3> extremes;
@@ -115,9 +117,11 @@ template <class Vertices>
   }
   if (const auto* a = std::get_if<AutoFit>(&fitter); a && a->or_aabb && method != FitMethod::aabb) {
     // The axis-aligned box costs one pass and is often the smaller one (axis-aligned CAD parts,
-    // nodes with a near-isotropic covariance where the PCA axes are arbitrary).
-    fit.method = FitMethod::aabb;
-    if (const Obb aabb = fit_triangles(corners, fit, workspace); aabb.volume() < box.volume()) box = aabb;
+    // nodes with a near-isotropic covariance where the PCA axes are arbitrary). The fit above has
+    // checked the points, and the distinct vertices have the corners' bounds at a sixth of the
+    // reads: the same box as fit_triangles(corners, aabb) without its finiteness pass.
+    if (const Obb aabb = to_obb(bounds_of(distinct.empty() ? corners : distinct)); aabb.volume() < box.volume())
+      box = aabb;
   }
   return box;
 }

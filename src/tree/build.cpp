@@ -138,7 +138,7 @@ class Builder {
   // else its corners.
   [[nodiscard]] Obb fit(Index begin, Index end, Scratch& scratch, std::span<const Vec3>& points) const {
     points = node_corners(begin, end);
-    return detail::fit_node(node_corners(begin, end), options_.fitter, options_.fit, scratch.fit, [&] {
+    return detail::fit_node(node_corners(begin, end), order_.size(), options_.fitter, options_.fit, scratch.fit, [&] {
       points = node_vertices(begin, end, scratch);
       return points;
     });

@@ -120,12 +120,16 @@ class Builder {
       scratch.stamp_epoch = 1;
     }
     scratch.vertices.clear();
-    for (Index p = begin; p < end; ++p)
-      for (const std::uint32_t v : mesh_.triangles[order_[p]])
-        if (stamp[v] != scratch.stamp_epoch) {
-          stamp[v] = scratch.stamp_epoch;
-          scratch.vertices.push_back(mesh_.vertices[v]);
+    for (Index p = begin; p < end; ++p) {
+      const Triangle& t = mesh_.triangles[order_[p]];
+      for (int k = 0; k < 3; ++k)
+        if (stamp[t[k]] != scratch.stamp_epoch) {
+          stamp[t[k]] = scratch.stamp_epoch;
+          // The position from the node's own corners (contiguous, just read by the fitter), not
+          // from the mesh's vertex array (a cache miss per vertex on large meshes).
+          scratch.vertices.push_back(corners_[3 * std::size_t{p} + k]);
         }
+    }
     return scratch.vertices;
   }
 

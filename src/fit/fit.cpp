@@ -241,7 +241,12 @@ Obb fit_normal_bopt(std::span<const Vec3> points, std::span<const Vec3> triangle
   s.last_hull_vertices = 0;
   s.geometry.reset_points(points, pca.center);  // no 3D hull: the 2D hull of the projection suffices
   const AxisBox best = bopt(s.geometry, normal, s.bopt);
-  const Obb box = box_with_axes(points, orthonormalize(best.axes), pca.center);
+  // Bopt projected every point: its extents are the set's in its frame (orthonormal to rounding),
+  // so no second pass over the points measures them again.
+  Obb box;
+  box.axes = best.axes;
+  box.half_extents = 0.5 * (best.hi - best.lo);
+  box.center = pca.center + best.axes * (0.5 * (best.hi + best.lo));
   return box.volume() < pca.volume() ? box : pca;
 }
 

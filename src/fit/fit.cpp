@@ -15,6 +15,11 @@
 #include "../name_table.hpp"
 #include "workspace.hpp"
 
+#if defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2)
+#include <emmintrin.h>
+#define TIGHTBVH_FIT_SSE2 1
+#endif
+
 namespace tightbvh {
 namespace {
 
@@ -127,26 +132,52 @@ void extreme_point_kernel(std::span<const Vec3> points, const Obb& frame, std::v
   const std::size_t count = std::min(grid.size(), kMax);
   const double largest = frame.half_extents.maxCoeff();
   const Vec3 scale = frame.half_extents.cwiseMax(1e-9 * largest).cwiseInverse();
-  std::array<Vec3, kMax> directions;  // grid vectors of the unit cube mapped back to the set
-  for (std::size_t i = 0; i < count; ++i)
-    directions[i] = frame.axes * Vec3(grid[i][0] * scale.x(), grid[i][1] * scale.y(), grid[i][2] * scale.z());
-  std::array<double, kMax> lo, hi;
-  std::array<std::size_t, kMax> at_lo{}, at_hi{};
+  // The grid vectors of the unit cube mapped back to the set, one array per coordinate (padded
+  // to an even count with zero vectors, whose extremes are never read).
+  constexpr std::size_t kPadded = kMax + 1;
+  alignas(16) std::array<double, kPadded> dx{}, dy{}, dz{};
+  for (std::size_t i = 0; i < count; ++i) {
+    const Vec3 d = frame.axes * Vec3(grid[i][0] * scale.x(), grid[i][1] * scale.y(), grid[i][2] * scale.z());
+    dx[i] = d.x(), dy[i] = d.y(), dz[i] = d.z();
+  }
+  // The extreme values and the points reaching them (indices as doubles: exact below 2^53, and
+  // one select serves both). Strict comparisons keep the first point that reaches an extreme.
+  alignas(16) std::array<double, kPadded> lo, hi, at_lo{}, at_hi{};
   lo.fill(std::numeric_limits<double>::infinity());
   hi.fill(-std::numeric_limits<double>::infinity());
   for (std::size_t p = 0; p < points.size(); ++p) {
     const Vec3 q = points[p] - frame.center;
-    for (std::size_t i = 0; i < count; ++i) {
-      const double d = directions[i].dot(q);
-      if (d < lo[i]) lo[i] = d, at_lo[i] = p;
-      if (d > hi[i]) hi[i] = d, at_hi[i] = p;
+    const double index = static_cast<double>(p);
+#ifdef TIGHTBVH_FIT_SSE2
+    // Two directions per instruction, selects instead of branches: the branches of the scalar
+    // loop were unpredictable, and GCC does not if-convert them (it keeps them for the possible
+    // floating-point traps). The same products and sums in the same order as the scalar loop.
+    const __m128d qx = _mm_set1_pd(q.x()), qy = _mm_set1_pd(q.y()), qz = _mm_set1_pd(q.z()), at = _mm_set1_pd(index);
+    for (std::size_t i = 0; i < kPadded; i += 2) {
+      const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(_mm_load_pd(&dx[i]), qx), _mm_mul_pd(_mm_load_pd(&dy[i]), qy)),
+                                   _mm_mul_pd(_mm_load_pd(&dz[i]), qz));
+      const __m128d l = _mm_load_pd(&lo[i]), h = _mm_load_pd(&hi[i]);
+      const __m128d below = _mm_cmplt_pd(d, l), above = _mm_cmpgt_pd(d, h);
+      _mm_store_pd(&lo[i], _mm_or_pd(_mm_and_pd(below, d), _mm_andnot_pd(below, l)));
+      _mm_store_pd(&at_lo[i], _mm_or_pd(_mm_and_pd(below, at), _mm_andnot_pd(below, _mm_load_pd(&at_lo[i]))));
+      _mm_store_pd(&hi[i], _mm_or_pd(_mm_and_pd(above, d), _mm_andnot_pd(above, h)));
+      _mm_store_pd(&at_hi[i], _mm_or_pd(_mm_and_pd(above, at), _mm_andnot_pd(above, _mm_load_pd(&at_hi[i]))));
     }
+#else
+    for (std::size_t i = 0; i < kPadded; ++i) {
+      const double d = dx[i] * q.x() + dy[i] * q.y() + dz[i] * q.z();
+      if (d < lo[i]) lo[i] = d, at_lo[i] = index;
+      if (d > hi[i]) hi[i] = d, at_hi[i] = index;
+    }
+#endif
   }
   // Many directions share an extreme point: drop repeated indices first (cheap integer sort), so
   // that only the distinct points are sorted (the same result as sorting all 98).
   std::array<std::size_t, 2 * kMax> at;
-  std::copy_n(at_lo.begin(), count, at.begin());
-  std::copy_n(at_hi.begin(), count, at.begin() + count);
+  for (std::size_t i = 0; i < count; ++i) {
+    at[i] = static_cast<std::size_t>(at_lo[i]);
+    at[count + i] = static_cast<std::size_t>(at_hi[i]);
+  }
   std::sort(at.begin(), at.begin() + 2 * count);
   const auto end = std::unique(at.begin(), at.begin() + 2 * count);
   out.clear();
@@ -210,7 +241,12 @@ Obb fit_normal_bopt(std::span<const Vec3> points, std::span<const Vec3> triangle
   s.last_hull_vertices = 0;
   s.geometry.reset_points(points, pca.center);  // no 3D hull: the 2D hull of the projection suffices
   const AxisBox best = bopt(s.geometry, normal, s.bopt);
-  const Obb box = box_with_axes(points, orthonormalize(best.axes), pca.center);
+  // Bopt projected every point: its extents are the set's in its frame (orthonormal to rounding),
+  // so no second pass over the points measures them again.
+  Obb box;
+  box.axes = best.axes;
+  box.half_extents = 0.5 * (best.hi - best.lo);
+  box.center = pca.center + best.axes * (0.5 * (best.hi + best.lo));
   return box.volume() < pca.volume() ? box : pca;
 }
 

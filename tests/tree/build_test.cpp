@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "build_test_util.hpp"
+#include "tightbvh/refit.hpp"
 #include "tightbvh/serialize.hpp"
 #include "tightbvh/validate_tree.hpp"
 #include "fit/frame.hpp"
@@ -328,6 +329,39 @@ TEST(BuildOptionsTest, AutoUsesTheMediumFitterBetweenTheThresholds) {
     if (in_medium || ranges[i].size() > 1) EXPECT_EQ(tree.nodes[i].box.axes.isIdentity(), in_medium) << "node " << i;
   }
   EXPECT_GT(medium, 4u);
+}
+
+// Above AutoFit::scale_above triangles both thresholds grow with the mesh: on elephant (5,558
+// triangles) with scale_above = 1,000, thresholds 1000 and 100 become 5558 and 555, so exactly the
+// nodes of [555, 5558) triangles get the medium fitter (marked by axis-aligned boxes) and the
+// root the tight one. Refit follows the same rule (it must give the builder's boxes).
+TEST(BuildOptionsTest, AutoScalesItsThresholdsWithTheMesh) {
+  const Mesh mesh = load_relative("meshes/elephant.off");
+  ASSERT_EQ(mesh.triangles.size(), 5558u);
+  const AutoFit policy{.tight_min_triangles = 1000, .tight = FitMethod::pca, .medium_min_triangles = 100,
+                       .medium = FitMethod::aabb, .cheap = FitMethod::pca, .or_aabb = false, .scale_above = 1000};
+  EXPECT_EQ(detail::scaled_threshold(policy, 1000, 5558), 5558u);
+  EXPECT_EQ(detail::scaled_threshold(policy, 100, 5558), 555u);
+  EXPECT_EQ(detail::scaled_threshold(policy, 100, 1000), 100u);  // not above scale_above: unchanged
+  EXPECT_EQ(detail::scaled_threshold(AutoFit{.scale_above = 0}, 100, 5558), 100u);
+  const Tree tree = build(mesh, with(policy));
+  ASSERT_TRUE(validate(tree, mesh).ok());
+  Tree refitted = tree;
+  refit(refitted, mesh, {.fitter = policy});
+  const std::vector<TriangleRange> ranges = triangle_ranges(tree);
+  std::size_t medium = 0, small_medium = 0;
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+    const std::size_t n = ranges[i].size();
+    const bool in_medium = n >= 555 && n < 5558;
+    medium += in_medium;
+    small_medium += in_medium && n < 1000;  // medium only because the thresholds grew
+    if (in_medium || n > 1) {
+      EXPECT_EQ(tree.nodes[i].box.axes.isIdentity(), in_medium) << "node " << i << ", " << n << " triangles";
+      EXPECT_EQ(refitted.nodes[i].box.axes.isIdentity(), in_medium) << "refit, node " << i;
+    }
+  }
+  EXPECT_GT(small_medium, 2u);
+  EXPECT_GT(medium, small_medium);
 }
 
 // The tight tier's large nodes orient their box on column extremes (AutoFit::column_extremes_above):

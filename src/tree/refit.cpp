@@ -332,7 +332,8 @@ class FitKernel {
   [[nodiscard]] CompactBox fit(Range range, FitWorkspace& workspace) const {
     const auto corners = corners_.subspan(3 * std::size_t{range.begin}, 3 * std::size_t{range.size()});
     const Obb fitted =
-        detail::fit_node(corners, corners_.size() / 3, options_.fitter, options_.fit, workspace, [] { return std::span<const Vec3>{}; });
+        detail::fit_node(corners, corners_.size() / 3, options_.fitter, options_.fit, workspace,
+                         [] { return std::span<const Vec3>{}; });
     return compact_box(fitted, corners);
   }
 

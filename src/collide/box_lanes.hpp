@@ -47,6 +47,21 @@ inline void lane_relative_frame(const LaneBox<V>& a, const LaneBox<V>& b, V (&r)
   }
 }
 
+// The edge axis A_i x B_j (unnormalised; r = Aa^T Mb, abs_r = |r| + eps, t as above): the two
+// boxes' projected radii and the centers' offset along it, the SAT's table of Gottschalk, Lin &
+// Manocha (1996), shared by the box test and the distance bound.
+template <class V>
+struct EdgeAxis {
+  V ra, rb, t;
+};
+template <class V>
+[[nodiscard]] inline EdgeAxis<V> edge_axis(const V* ea, const V* eb, const V (&r)[3][3], const V (&abs_r)[3][3],
+                                           const V (&t)[3], int i, int j) {
+  const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+  return {ea[i1] * abs_r[i2][j] + ea[i2] * abs_r[i1][j], eb[j1] * abs_r[i][j2] + eb[j2] * abs_r[i][j1],
+          t[i2] * r[i1][j] - t[i1] * r[i2][j]};
+}
+
 // box_separated: the lanes whose boxes some axis separates by more than `margin` (obb_overlap()'s
 // negation, lane by lane). Stops at the first axis after which every lane is separated.
 template <class V, class M>
@@ -74,17 +89,12 @@ template <class V, class M>
     if (all_lanes(sep)) return sep;
   }
   // Edge-edge axes A_i x B_j.
-  for (int i = 0; i < 3; ++i) {
-    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+  for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
-      const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-      const V ra = ea[i1] * abs_r[i2][j] + ea[i2] * abs_r[i1][j];
-      const V rb = eb[j1] * abs_r[i][j2] + eb[j2] * abs_r[i][j1];
-      const V tl = t[i2] * r[i1][j] - t[i1] * r[i2][j];
-      sep = sep | lane_gt(lane_abs(tl), ra + rb + margin);
+      const EdgeAxis<V> e = edge_axis(ea, eb, r, abs_r, t, i, j);
+      sep = sep | lane_gt(lane_abs(e.t), e.ra + e.rb + margin);
       if (all_lanes(sep)) return sep;
     }
-  }
   return sep;
 }
 
@@ -120,12 +130,9 @@ template <class V>
   V best = lane_max(in_a, in_b);
   const V one = lane_splat<V>(1.0), short_axis = lane_splat<V>(1e-6);
   for (int i = 0; i < 3; ++i) {
-    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
     for (int j = 0; j < 3; ++j) {
-      const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-      const V ra = ea[i1] * abs_r[i2][j] + ea[i2] * abs_r[i1][j];
-      const V rb = eb[j1] * abs_r[i][j2] + eb[j2] * abs_r[i][j1];
-      const V gap = lane_max(lane_abs(t[i2] * r[i1][j] - t[i1] * r[i2][j]) - ra - rb, zero);
+      const EdgeAxis<V> e = edge_axis(ea, eb, r, abs_r, t, i, j);
+      const V gap = lane_max(lane_abs(e.t) - e.ra - e.rb, zero);
       // |A_i x B_j|^2 = 1 - r_ij^2; nearly parallel edges (short axis) keep the unnormalised gap.
       const V axis = one - r[i][j] * r[i][j];
       best = lane_max(best, gap * gap / lane_select_le(axis, short_axis, one, axis));

@@ -38,7 +38,9 @@ enum class QueryMode {
   all_pairs,  // every touching triangle pair
 };
 
-// Which node of a pair of internal nodes is split during the descent.
+// Which node of a pair of internal nodes is split during the descent: the larger by this
+// measure, or both when they are within a factor 8 of each other (their four child pairs are
+// box-tested at once).
 enum class DescendRule {
   larger_volume,  // the box with the larger volume (default)
   larger_extent,  // the box with the larger maximal half extent

@@ -217,10 +217,7 @@ class DistanceSearch {
   // bound next anyway (0.4% more bounds on the shipped pair's gap and separated poses), for one
   // call of the four-lane bound and fewer heap operations.
   [[nodiscard]] bool split_both(const Node& na, const Node& nb) const {
-    if (na.is_leaf() || nb.is_leaf()) return false;
-    const double sa = query_detail::descend_size(na.box, options_.descend);
-    const double sb = query_detail::descend_size(nb.box, options_.descend);
-    return sa <= kSearchSplitBothRatio * sb && sb <= kSearchSplitBothRatio * sa;
+    return query_detail::splits_both(query_detail::choose_split(na, nb, options_.descend, kSearchSplitBothRatio));
   }
 
   // The children of `n`, the node a single split splits, each replaced by its own two children

@@ -95,13 +95,15 @@ enum class Split {
 
 // How a pair of nodes (not both leaves) is split: the larger node by the rule (A on a tie), or
 // both when they are of about one size; the order of the four pairs is the one of splitting the
-// larger node first, then the other.
-[[nodiscard]] inline Split choose_split(const Node& na, const Node& nb, DescendRule rule) {
+// larger node first, then the other. `ratio`: the sizes' limit for splitting both (distance()'s
+// search uses its own).
+[[nodiscard]] inline Split choose_split(const Node& na, const Node& nb, DescendRule rule,
+                                        double ratio = kSplitBothRatio) {
   if (nb.is_leaf()) return Split::a;
   if (na.is_leaf()) return Split::b;
   const double sa = descend_size(na.box, rule), sb = descend_size(nb.box, rule);
   const bool a_larger = sa >= sb;
-  if (sa <= kSplitBothRatio * sb && sb <= kSplitBothRatio * sa)
+  if (sa <= ratio * sb && sb <= ratio * sa)
     return a_larger ? Split::both_a_first : Split::both_b_first;
   return a_larger ? Split::a : Split::b;
 }

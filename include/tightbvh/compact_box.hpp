@@ -46,6 +46,14 @@ struct CompactBox {
 // triangle corners or vertices), as described above. Throws InputError when `points` is empty.
 [[nodiscard]] CompactBox compact_box(const Obb& fitted, std::span<const Vec3> points);
 
+// The box with (about) these axes around `points` in one pass, where fitting a box with
+// fit_detail::box_with_axes and then compact_box takes two: the axes are rounded to float first,
+// the points' range along them is measured once (in AVX lanes where the CPU has them), and the
+// center is the float nearest to the middle of that range. Contains every point as compact_box's
+// box does (same padding, see compact_box.cpp). `axes` orthonormal; throws InputError when
+// `points` is empty.
+[[nodiscard]] CompactBox compact_box_with_axes(std::span<const Vec3> points, const Mat3& axes);
+
 // The nearest float box, with no containment guarantee: for boxes made by hand (tests, tools).
 [[nodiscard]] CompactBox nearest_compact_box(const Obb& box);
 

@@ -1,6 +1,8 @@
 #include "pca.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "frame.hpp"
@@ -57,6 +59,74 @@ Mat3 principal_axes(const Mat3& covariance) {
   axes.col(1) = n.cross(a);
   axes.col(2) = n;
   return axes;
+}
+
+Mat3 principal_axes_from(const Mat3& covariance, const Mat3& start) {
+  if (!covariance.allFinite() || covariance.cwiseAbs().maxCoeff() == 0.0) return Mat3::Identity();
+  // One Gram-Schmidt pass: the start is a stored float frame, orthonormal to about 2e-7.
+  const double n0 = start.col(0).norm();
+  if (!(n0 > 0.0) || !std::isfinite(n0)) return principal_axes(covariance);
+  Mat3 v;
+  v.col(0) = start.col(0) / n0;
+  v.col(1) = start.col(1) - v.col(0).dot(start.col(1)) * v.col(0);
+  const double n1 = v.col(1).norm();
+  if (!(n1 > 0.5 * start.col(1).norm()) || !std::isfinite(n1)) return principal_axes(covariance);  // not a frame
+  v.col(1) /= n1;
+  v.col(2) = v.col(0).cross(v.col(1));
+  Mat3 d = v.transpose() * covariance * v;  // the matrix in the current frame
+  // An off-diagonal entry this small moves an eigenvector by about its ratio to the eigenvalue
+  // gap: 1e-12 of the largest entry is far inside what principal_axes' closed form accepts
+  // (residuals of 1e-7), and a start accurate to float rounding converges in one sweep.
+  const double negligible = 1e-12 * d.cwiseAbs().maxCoeff();
+  constexpr int kMaxSweeps = 8;  // convergence is quadratic; from any start 4-5 sweeps suffice
+  // One rotation in the plane (p, q); compile-time indices keep d and v in registers.
+  const auto rotate = [&]<int p, int q>() {
+    const double apq = d(p, q);
+    if (!(std::abs(apq) > negligible)) return false;
+    // GVL Algorithm 8.5.1 (sym.schur2): t = tan of the smaller angle that zeroes d(p, q). For the
+    // small angles of a good start (|tau| > 1e6) the series t = 1/(2 tau), c = 1 - t^2/2 is exact
+    // to double rounding and saves the two square roots.
+    const double tau = (d(q, q) - d(p, p)) / (2.0 * apq);
+    double c, s;
+    if (std::abs(tau) > 1e6) {
+      const double t = 0.5 / tau;
+      c = 1.0 - 0.5 * t * t, s = t * c;
+    } else {
+      const double t = (tau >= 0.0 ? 1.0 : -1.0) / (std::abs(tau) + std::sqrt(1.0 + tau * tau));
+      c = 1.0 / std::sqrt(1.0 + t * t), s = t * c;
+    }
+    for (int k = 0; k < 3; ++k) {  // d J
+      const double a = d(k, p), b = d(k, q);
+      d(k, p) = c * a - s * b, d(k, q) = s * a + c * b;
+    }
+    for (int k = 0; k < 3; ++k) {  // J^T (d J)
+      const double a = d(p, k), b = d(q, k);
+      d(p, k) = c * a - s * b, d(q, k) = s * a + c * b;
+    }
+    d(p, q) = d(q, p) = 0.0;
+    for (int k = 0; k < 3; ++k) {  // v J
+      const double a = v(k, p), b = v(k, q);
+      v(k, p) = c * a - s * b, v(k, q) = s * a + c * b;
+    }
+    return true;
+  };
+  for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+    bool rotated = rotate.template operator()<0, 1>();
+    rotated |= rotate.template operator()<0, 2>();
+    rotated |= rotate.template operator()<1, 2>();
+    if (!rotated) {
+      // Columns by decreasing eigenvalue, right-handed.
+      std::array<int, 3> order{0, 1, 2};
+      std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return d(a, a) > d(b, b); });
+      Mat3 axes;
+      axes.col(0) = v.col(order[0]);
+      axes.col(1) = v.col(order[1]);
+      axes.col(2) = axes.col(0).cross(axes.col(1));
+      return axes;
+    }
+    if (!d.allFinite()) break;
+  }
+  return principal_axes(covariance);
 }
 
 Mat3 pca_vertex_axes(std::span<const Vec3> points, const Vec3& origin) {

@@ -11,6 +11,15 @@ namespace tightbvh::fit_detail {
 // eigenvalues any orthonormal basis of the eigenspace is returned.
 [[nodiscard]] Mat3 principal_axes(const Mat3& covariance);
 
+// The same frame, found by cyclic Jacobi rotations (Golub & Van Loan, Matrix Computations,
+// Section 8.5) started from `start` (any frame; orthonormalized first). When `start` nearly
+// diagonalises the matrix, as a node's previous axes do for its covariance after a small
+// deformation (refit), one or two sweeps of three rotations converge, several times cheaper than
+// the closed form. Within a (nearly) repeated eigenvalue's eigenspace the rotated start is kept,
+// so the frame does not jump from frame to frame. Falls back to principal_axes when the sweeps
+// do not converge (e.g. entries near the overflow range).
+[[nodiscard]] Mat3 principal_axes_from(const Mat3& covariance, const Mat3& start);
+
 // FCL-style: eigenvectors of the unweighted covariance of the points (triangle corners).
 [[nodiscard]] Mat3 pca_vertex_axes(std::span<const Vec3> points, const Vec3& origin);
 

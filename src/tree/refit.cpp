@@ -273,14 +273,14 @@ class PcaKernel {
     for (std::size_t p = range.begin; p < range.end; ++p)
       m.add_triangle(corners_[3 * p], corners_[3 * p + 1], corners_[3 * p + 2], corners_only_);
     const std::optional<Obb> triangle = range.size() == 1 ? single(range.begin) : std::nullopt;
-    node.box = compact_box(triangle ? *triangle : box(m, range), node_corners(range));
+    node.box = triangle ? compact_box(*triangle, node_corners(range)) : box(m, range, node.box);
     return m;
   }
 
   // The left child's origin is the parent's (both start at range.begin): only the right one moves.
   Value internal(Node& node, Range range, Value left, const Value& right, Scratch& /*scratch*/) const {
     left.add(right, corners_only_);
-    node.box = compact_box(box(left, range), node_corners(range));
+    node.box = box(left, range, node.box);
     return left;
   }
 
@@ -293,14 +293,18 @@ class PcaKernel {
     return corners_.subspan(3 * std::size_t{range.begin}, 3 * std::size_t{range.size()});
   }
 
-  [[nodiscard]] Obb box(const Moments& m, Range range) const {
+  // The eigenvectors start from the node's box before the refit (`previous`): after a frame's
+  // deformation they nearly diagonalise its new covariance (principal_axes_from). The extents are
+  // measured once, in the stored float frame (compact_box_with_axes).
+  [[nodiscard]] CompactBox box(const Moments& m, Range range, const CompactBox& previous) const {
     const auto corners = node_corners(range);
+    const Mat3 start = previous.axes_d();
     // Zero total area: pca_triangle_axes falls back to the corners' covariance (rare: computed from
     // the node's corners rather than carried up the tree).
-    const Mat3 axes = corners_only_  ? fit_detail::principal_axes(m.corner_covariance())
-                      : m.area > 0.0 ? fit_detail::principal_axes(m.area_covariance())
+    const Mat3 axes = corners_only_  ? fit_detail::principal_axes_from(m.corner_covariance(), start)
+                      : m.area > 0.0 ? fit_detail::principal_axes_from(m.area_covariance(), start)
                                      : fit_detail::pca_vertex_axes(corners, m.origin);
-    return fit_detail::box_with_axes(corners, axes, m.origin);
+    return compact_box_with_axes(corners, axes);
   }
 
   std::span<const Vec3> corners_;

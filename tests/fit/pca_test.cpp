@@ -1,6 +1,8 @@
 // Tests of the AABB and PCA fitters (src/fit/pca.cpp, src/fit/fit.cpp).
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -142,6 +144,40 @@ TEST(FitSimple, WorkspaceReuseGivesSameBoxes) {
     previous = lambda;
   }
   return ::testing::AssertionSuccess();
+}
+
+// principal_axes_from (refit's Jacobi sweeps from the previous axes): an eigenframe as
+// principal_axes' for the same spectra, from starts near the answer (a float-rounded or slightly
+// turned eigenframe, as after a frame's deformation), far from it (random) and degenerate (zero
+// or parallel columns: the closed form's answer); with a repeated eigenvalue the start's
+// directions in that eigenspace are kept.
+TEST(FitSimple, PrincipalAxesFromAStartAreAnEigenframe) {
+  std::mt19937_64 rng(6);
+  const std::vector<Vec3> spectra{{1, 1, 1},     {2, 1, 1},        {1, 1, 0},           {1, 0, 0},
+                                  {1, 1, 1e-12}, {1, 1 + 1e-9, 1}, {1, 1 - 1e-14, 0.5}, {1e6, 1, 1e-6},
+                                  {3, 2, 1},     {1e-300, 1e-300, 2e-300}, {5, 5, 5 + 1e-13}};
+  for (const Vec3& d : spectra)
+    for (int trial = 0; trial < 50; ++trial) {
+      const Mat3 r = trial == 0 ? Mat3::Identity() : test::random_rotation(rng);
+      const Mat3 c = r * d.asDiagonal() * r.transpose();
+      const Mat3 turned = r * Eigen::AngleAxisd(1e-3 * trial, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+      Mat3 parallel = test::random_rotation(rng);
+      parallel.col(1) = parallel.col(0);
+      for (const Mat3& start : {Mat3(r.cast<float>().cast<double>()), turned, test::random_rotation(rng),
+                                Mat3(Mat3::Zero()), parallel})
+        EXPECT_TRUE(is_eigenframe(c, fit_detail::principal_axes_from(c, start)))
+            << d.transpose() << " trial " << trial << " start\n" << start;
+    }
+  // A repeated eigenvalue: any frame of the eigenspace is an answer; the start's is kept.
+  const Mat3 c = Vec3(2, 1, 1).asDiagonal();
+  const Mat3 start = Eigen::AngleAxisd(0.4, Vec3::UnitX()).toRotationMatrix();
+  const Mat3 axes = fit_detail::principal_axes_from(c, start);
+  EXPECT_NEAR(std::abs(axes.col(0).dot(Vec3::UnitX())), 1.0, 1e-15);
+  EXPECT_NEAR(std::max(std::abs(axes.col(1).dot(start.col(1))), std::abs(axes.col(1).dot(start.col(2)))), 1.0, 1e-15);
+  EXPECT_TRUE(fit_detail::principal_axes_from(Mat3::Zero(), start).isIdentity());
+  Mat3 nan = c;
+  nan(1, 2) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(fit_detail::principal_axes_from(nan, start).isIdentity());
 }
 
 TEST(FitSimple, PrincipalAxesAreAnEigenframeForRepeatedAndNearlyRepeatedEigenvalues) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include "frame.hpp"
 
@@ -62,7 +63,7 @@ Mat3 principal_axes(const Mat3& covariance) {
 }
 
 Mat3 principal_axes_from(const Mat3& covariance, const Mat3& start) {
-  if (!covariance.allFinite() || covariance.cwiseAbs().maxCoeff() == 0.0) return Mat3::Identity();
+  if (!covariance.allFinite()) return Mat3::Identity();
   // One Gram-Schmidt pass: the start is a stored float frame, orthonormal to about 2e-7.
   const double n0 = start.col(0).norm();
   if (!(n0 > 0.0) || !std::isfinite(n0)) return principal_axes(covariance);
@@ -73,58 +74,68 @@ Mat3 principal_axes_from(const Mat3& covariance, const Mat3& start) {
   if (!(n1 > 0.5 * start.col(1).norm()) || !std::isfinite(n1)) return principal_axes(covariance);  // not a frame
   v.col(1) /= n1;
   v.col(2) = v.col(0).cross(v.col(1));
-  Mat3 d = v.transpose() * covariance * v;  // the matrix in the current frame
+  // The matrix in the current frame, d = v^T C v, symmetric: its six entries.
+  const Mat3 cv = covariance * v;
+  double d[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) d[i][j] = d[j][i] = v.col(i).dot(cv.col(j));
+  double largest = 0.0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) largest = std::max(largest, std::abs(d[i][j]));
+  if (largest == 0.0) return Mat3::Identity();
   // An off-diagonal entry this small moves an eigenvector by about its ratio to the eigenvalue
   // gap: 1e-12 of the largest entry is far inside what principal_axes' closed form accepts
   // (residuals of 1e-7), and a start accurate to float rounding converges in one sweep.
-  const double negligible = 1e-12 * d.cwiseAbs().maxCoeff();
-  constexpr int kMaxSweeps = 8;  // convergence is quadratic; from any start 4-5 sweeps suffice
-  // One rotation in the plane (p, q); compile-time indices keep d and v in registers.
-  const auto rotate = [&]<int p, int q>() {
-    const double apq = d(p, q);
+  const double negligible = 1e-12 * largest;
+  // The rotation in the plane (p, q) that zeroes d[p][q] (r the third index), in the symmetric
+  // update form of Numerical Recipes (3rd ed., Section 11.1): compile-time indices keep d and v in
+  // registers.
+  const auto rotate = [&]<int p, int q, int r>() {
+    const double apq = d[p][q];
     if (!(std::abs(apq) > negligible)) return false;
-    // GVL Algorithm 8.5.1 (sym.schur2): t = tan of the smaller angle that zeroes d(p, q). For the
-    // small angles of a good start (|tau| > 1e6) the series t = 1/(2 tau), c = 1 - t^2/2 is exact
-    // to double rounding and saves the two square roots.
-    const double tau = (d(q, q) - d(p, p)) / (2.0 * apq);
-    double c, s;
+    // GVL Algorithm 8.5.1 (sym.schur2): t = tan of the smaller angle. For the small angles of a
+    // good start (|tau| > 1e6) the series t = 1/(2 tau), c = 1 - t^2/2 is exact to double
+    // rounding and saves the two square roots.
+    const double tau = (d[q][q] - d[p][p]) / (2.0 * apq);
+    double t, c;
     if (std::abs(tau) > 1e6) {
-      const double t = 0.5 / tau;
-      c = 1.0 - 0.5 * t * t, s = t * c;
+      t = 0.5 / tau;
+      c = 1.0 - 0.5 * t * t;
     } else {
-      const double t = (tau >= 0.0 ? 1.0 : -1.0) / (std::abs(tau) + std::sqrt(1.0 + tau * tau));
-      c = 1.0 / std::sqrt(1.0 + t * t), s = t * c;
+      t = (tau >= 0.0 ? 1.0 : -1.0) / (std::abs(tau) + std::sqrt(1.0 + tau * tau));
+      c = 1.0 / std::sqrt(1.0 + t * t);
     }
-    for (int k = 0; k < 3; ++k) {  // d J
-      const double a = d(k, p), b = d(k, q);
-      d(k, p) = c * a - s * b, d(k, q) = s * a + c * b;
-    }
-    for (int k = 0; k < 3; ++k) {  // J^T (d J)
-      const double a = d(p, k), b = d(q, k);
-      d(p, k) = c * a - s * b, d(q, k) = s * a + c * b;
-    }
-    d(p, q) = d(q, p) = 0.0;
+    const double s = t * c;
+    d[p][p] -= t * apq, d[q][q] += t * apq;
+    d[p][q] = d[q][p] = 0.0;
+    const double drp = d[r][p], drq = d[r][q];
+    d[r][p] = d[p][r] = c * drp - s * drq;
+    d[r][q] = d[q][r] = s * drp + c * drq;
     for (int k = 0; k < 3; ++k) {  // v J
       const double a = v(k, p), b = v(k, q);
       v(k, p) = c * a - s * b, v(k, q) = s * a + c * b;
     }
     return true;
   };
+  constexpr int kMaxSweeps = 8;  // convergence is quadratic; from any start 4-5 sweeps suffice
   for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
-    bool rotated = rotate.template operator()<0, 1>();
-    rotated |= rotate.template operator()<0, 2>();
-    rotated |= rotate.template operator()<1, 2>();
+    bool rotated = rotate.template operator()<0, 1, 2>();
+    rotated |= rotate.template operator()<0, 2, 1>();
+    rotated |= rotate.template operator()<1, 2, 0>();
     if (!rotated) {
       // Columns by decreasing eigenvalue, right-handed.
-      std::array<int, 3> order{0, 1, 2};
-      std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return d(a, a) > d(b, b); });
+      std::array<int, 3> order{0, 1, 2};  // three compare-exchanges, stable
+      const auto exchange = [&](int i, int j) {
+        if (d[order[j]][order[j]] > d[order[i]][order[i]]) std::swap(order[i], order[j]);
+      };
+      exchange(0, 1), exchange(1, 2), exchange(0, 1);
       Mat3 axes;
       axes.col(0) = v.col(order[0]);
       axes.col(1) = v.col(order[1]);
       axes.col(2) = axes.col(0).cross(axes.col(1));
       return axes;
     }
-    if (!d.allFinite()) break;
+    if (!std::isfinite(d[0][0] + d[1][1] + d[2][2] + d[0][1] + d[0][2] + d[1][2])) break;
   }
   return principal_axes(covariance);
 }

@@ -26,6 +26,33 @@ namespace {
   return f;
 }
 
+// The range [lo, hi] of a_i . p over the points along the box's stored (float) axes, in AVX lanes
+// where the CPU has them (fit/projected_range.hpp).
+void range_along_axes(const CompactBox& box, std::span<const Vec3> points, Vec3& lo, Vec3& hi) {
+  static_assert(sizeof(Vec3) == 3 * sizeof(double), "points are read as consecutive x, y, z");
+  double rows[3][4] = {};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) rows[i][j] = static_cast<double>(box.axes(i, j));
+  double lo_q[3], hi_q[3];
+  fit_detail::projected_range(points.data()->data(), points.size(), rows, lo_q, hi_q);
+  lo = Vec3(lo_q[0], lo_q[1], lo_q[2]), hi = Vec3(hi_q[0], hi_q[1], hi_q[2]);
+}
+
+// The half extents around the stored center from that range: a_i . (p - c) = a_i . p - a_i . c.
+// Each of the two dot products is off by at most about 6 units in the last place of max(|p|,
+// |c|) (|a_i|_1 <= sqrt(3), no FMA), their difference by a few more: the pad of 64 units covers it
+// with a margin, and the result is rounded up. |p|_inf <= |p|_2 = |A^-T q|_2 <= 1.001 |q|_2 (the
+// float axes are orthonormal to about 2e-7) bounds the points' magnitude without reading them
+// again.
+void set_half_extents(CompactBox& box, const Vec3& lo, const Vec3& hi) {
+  const Vec3 c = box.center_d();
+  const Vec3 shift = box.axes_d().transpose() * c;
+  const double points_magnitude = 1.001 * lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).norm();
+  const double magnitude = std::max(points_magnitude, c.cwiseAbs().maxCoeff());
+  const double pad = 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
+  for (int i = 0; i < 3; ++i) box.half_extents[i] = round_up(std::max(hi[i] - shift[i], shift[i] - lo[i]) + pad);
+}
+
 }  // namespace
 
 CompactBox compact_box(const Obb& fitted, std::span<const Vec3> points) {
@@ -36,48 +63,24 @@ CompactBox compact_box(const Obb& fitted, std::span<const Vec3> points) {
     for (int j = 0; j < 3; ++j) box.axes(i, j) = to_float(fitted.axes(i, j));
   }
   // The extents in the stored (float) frame, so that the box contains what it bounds as stored.
-  const Vec3 c = box.center_d();
-  const Mat3 axes_t = box.axes_d().transpose();
-  Vec3 extent = Vec3::Zero();
-  double magnitude = c.cwiseAbs().maxCoeff();
-  for (const Vec3& p : points) {
-    extent = extent.cwiseMax((axes_t * (p - c)).cwiseAbs());
-    magnitude = std::max(magnitude, p.cwiseAbs().maxCoeff());
-  }
-  // Each measured coordinate a_i . (p - c) is off by at most a few units in the last place of
-  // |p| + |c| (one subtraction, a 3-term dot product with |a_i|_1 <= sqrt(3)): pad by far more.
-  const double pad = 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
-  for (int i = 0; i < 3; ++i) box.half_extents[i] = round_up(extent[i] + pad);
+  Vec3 lo, hi;
+  range_along_axes(box, points, lo, hi);
+  set_half_extents(box, lo, hi);
   return box;
 }
 
 CompactBox compact_box_with_axes(std::span<const Vec3> points, const Mat3& axes) {
   if (points.empty()) throw InputError("compact_box_with_axes: a box needs at least one point");
-  static_assert(sizeof(Vec3) == 3 * sizeof(double), "points are read as consecutive x, y, z");
   CompactBox box;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) box.axes(i, j) = to_float(axes(i, j));
-  const Mat3 a = box.axes_d();
-  double rows[3][4] = {};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) rows[i][j] = a(i, j);
-  double lo_q[3], hi_q[3];
-  fit_detail::projected_range(points.data()->data(), points.size(), rows, lo_q, hi_q);
-  const Vec3 lo(lo_q[0], lo_q[1], lo_q[2]), hi(hi_q[0], hi_q[1], hi_q[2]);
-  // The range is of q = A^T p, so the middle maps back by A (A^-T within 3e-7 of A: the center
+  Vec3 lo, hi;
+  range_along_axes(box, points, lo, hi);
+  // The range is of q = A^T p, so its middle maps back by A (A^-T is within 3e-7 of A: the center
   // only has to be near the middle, the extents are measured from wherever it is).
-  const Vec3 center = a * (0.5 * (lo + hi));
+  const Vec3 center = box.axes_d() * (0.5 * (lo + hi));
   for (int i = 0; i < 3; ++i) box.center[i] = to_float(center[i]);
-  // a_i . (p - c) = a_i . p - a_i . c: the range shifted to the stored center. Each of the two dot
-  // products is off by at most about 6 units in the last place of max(|p|, |c|) (|a_i|_1 <=
-  // sqrt(3)), the difference by a few more: well inside compact_box's pad of 64. |p|_inf <=
-  // |p|_2 = |A^-T q|_2 <= 1.001 |q|_2 bounds the points' magnitude without reading them again.
-  const Vec3 shift = a.transpose() * box.center_d();
-  const double largest = 1.001 * lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).norm();
-  const double magnitude = std::max(largest, box.center_d().cwiseAbs().maxCoeff());
-  const double pad = 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
-  for (int i = 0; i < 3; ++i)
-    box.half_extents[i] = round_up(std::max(hi[i] - shift[i], shift[i] - lo[i]) + pad);
+  set_half_extents(box, lo, hi);
   return box;
 }
 

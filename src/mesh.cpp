@@ -8,6 +8,33 @@
 
 namespace tightbvh {
 
+namespace {
+
+[[noreturn]] void fail_non_finite(const std::string& source, std::size_t i, const Vec3& v) {
+  std::ostringstream msg;
+  msg << source << ": vertex " << i << " has a non-finite coordinate (" << v.x() << ", " << v.y() << ", " << v.z()
+      << ")";
+  throw InputError(msg.str());
+}
+
+[[noreturn]] void fail_index(const std::string& source, std::size_t t, std::uint32_t index, std::size_t vertices) {
+  std::ostringstream msg;
+  msg << source << ": triangle " << t << ": vertex index " << index << " is out of range (the mesh has " << vertices
+      << " vertices)";
+  throw InputError(msg.str());
+}
+
+}  // namespace
+
+void require_valid_mesh(const Mesh& mesh, const std::string& source) {
+  if (mesh.triangles.empty()) throw InputError(source + ": no triangles");
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+    if (!mesh.vertices[i].allFinite()) fail_non_finite(source, i, mesh.vertices[i]);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (const std::uint32_t index : mesh.triangles[t])
+      if (index >= mesh.vertices.size()) fail_index(source, t, index, mesh.vertices.size());
+}
+
 MeshStats check_mesh(const Mesh& mesh, const std::string& source) {
   if (mesh.triangles.empty()) throw InputError(source + ": no triangles");
   MeshStats stats;
@@ -15,23 +42,12 @@ MeshStats check_mesh(const Mesh& mesh, const std::string& source) {
   stats.triangles = mesh.triangles.size();
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     const Vec3& v = mesh.vertices[i];
-    if (!v.allFinite()) {
-      std::ostringstream msg;
-      msg << source << ": vertex " << i << " has a non-finite coordinate (" << v.x() << ", " << v.y() << ", "
-          << v.z() << ")";
-      throw InputError(msg.str());
-    }
+    if (!v.allFinite()) fail_non_finite(source, i, v);
     stats.bounds.extend(v);
   }
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    for (const std::uint32_t index : mesh.triangles[t]) {
-      if (index >= mesh.vertices.size()) {
-        std::ostringstream msg;
-        msg << source << ": triangle " << t << ": vertex index " << index << " is out of range (the mesh has "
-            << mesh.vertices.size() << " vertices)";
-        throw InputError(msg.str());
-      }
-    }
+    for (const std::uint32_t index : mesh.triangles[t])
+      if (index >= mesh.vertices.size()) fail_index(source, t, index, mesh.vertices.size());
     const auto [a, b, c] = mesh.corners(t);
     if ((b - a).cross(c - a).squaredNorm() == 0.0) ++stats.degenerate_triangles;
   }

@@ -52,6 +52,10 @@ struct MeshStats {
 // `source` names the mesh in messages.
 MeshStats check_mesh(const Mesh& mesh, const std::string& source = "mesh");
 
+// check_mesh's checks and messages without its statistics (bounds, degenerate triangles): for
+// callers that check a mesh every frame, such as refit.
+void require_valid_mesh(const Mesh& mesh, const std::string& source = "mesh");
+
 // Midpoint subdivision (Loop's split without smoothing): every triangle (a, b, c) becomes
 // (a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca), with one new vertex per edge shared by the
 // triangles of that edge. Makes large test meshes, and the flat patches of nearly coplanar

@@ -203,23 +203,15 @@ struct Sym {
   }
 };
 
-struct Moments {
+// pca's sums (Gottschalk's continuous covariance), relative to `origin`.
+struct AreaMoments {
   Vec3 origin = Vec3::Zero();
   double area = 0.0;
   Vec3 first = Vec3::Zero();
   Sym second;
-  double corners = 0.0;  // the corner sums: pca-vertex only
-  Vec3 corner_sum = Vec3::Zero();
-  Sym corner_second;
 
-  void add_triangle(const Vec3& a, const Vec3& b, const Vec3& c, bool with_corners) {
+  void add_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
     const Vec3 p = a - origin, q = b - origin, r = c - origin;
-    if (with_corners) {
-      corners += 3.0;
-      corner_sum += p + q + r;
-      corner_second.add_outer(p, 1.0), corner_second.add_outer(q, 1.0), corner_second.add_outer(r, 1.0);
-      return;
-    }
     const double triangle_area = 0.5 * (q - p).cross(r - p).norm();
     if (!(triangle_area > 0.0)) return;  // as pca_triangle_axes
     const Vec3 s = p + q + r;
@@ -230,16 +222,8 @@ struct Moments {
   }
 
   // Adds `other`'s sums, moved from other.origin to this origin (x -> x + e).
-  void add(const Moments& other, bool with_corners) {
+  void add(const AreaMoments& other) {
     const Vec3 e = other.origin - origin;
-    if (with_corners) {
-      corner_second.add(other.corner_second);
-      corner_second.add_symmetric(e, other.corner_sum, 1.0);
-      corner_second.add_outer(e, other.corners);
-      corner_sum += other.corner_sum + other.corners * e;
-      corners += other.corners;
-      return;
-    }
     second.add(other.second);
     second.add_symmetric(e, other.first, 1.0 / 3.0);
     second.add_outer(e, other.area);
@@ -247,31 +231,61 @@ struct Moments {
     area += other.area;
   }
 
-  [[nodiscard]] Mat3 area_covariance() const {
+  [[nodiscard]] Mat3 covariance() const {
     const Vec3 mean = first / (3.0 * area);
     return second.matrix() / area - mean * mean.transpose();
   }
-  [[nodiscard]] Mat3 corner_covariance() const {
-    const Vec3 mean = corner_sum / corners;
-    return corner_second.matrix() / corners - mean * mean.transpose();
+  // Zero total area: pca_triangle_axes falls back to the corners' covariance.
+  [[nodiscard]] bool degenerate() const { return !(area > 0.0); }
+};
+
+// pca-vertex's sums: the corners' count, sum and sum of outer products, relative to `origin`.
+struct CornerMoments {
+  Vec3 origin = Vec3::Zero();
+  double corners = 0.0;
+  Vec3 sum = Vec3::Zero();
+  Sym second;
+
+  void add_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 p = a - origin, q = b - origin, r = c - origin;
+    corners += 3.0;
+    sum += p + q + r;
+    second.add_outer(p, 1.0), second.add_outer(q, 1.0), second.add_outer(r, 1.0);
   }
+
+  void add(const CornerMoments& other) {
+    const Vec3 e = other.origin - origin;
+    second.add(other.second);
+    second.add_symmetric(e, other.sum, 1.0);
+    second.add_outer(e, other.corners);
+    sum += other.sum + other.corners * e;
+    corners += other.corners;
+  }
+
+  [[nodiscard]] Mat3 covariance() const {
+    const Vec3 mean = sum / corners;
+    return second.matrix() / corners - mean * mean.transpose();
+  }
+  [[nodiscard]] static bool degenerate() { return false; }
 };
 
 struct PcaScratch {};
 
-// pca / pca-vertex: moments bottom up, extents from the node's own corners.
+// pca (AreaMoments) / pca-vertex (CornerMoments): moments bottom up, extents from the node's own
+// corners.
+template <class Moments>
 class PcaKernel {
  public:
   using Value = Moments;
   using Scratch = PcaScratch;
 
-  PcaKernel(std::span<const Vec3> corners, bool corners_only) : corners_(corners), corners_only_(corners_only) {}
+  explicit PcaKernel(std::span<const Vec3> corners) : corners_(corners) {}
 
   Value leaf(Node& node, Range range, Scratch& /*scratch*/) const {
     Moments m;
     m.origin = corners_[3 * std::size_t{range.begin}];
     for (std::size_t p = range.begin; p < range.end; ++p)
-      m.add_triangle(corners_[3 * p], corners_[3 * p + 1], corners_[3 * p + 2], corners_only_);
+      m.add_triangle(corners_[3 * p], corners_[3 * p + 1], corners_[3 * p + 2]);
     const std::optional<Obb> triangle = range.size() == 1 ? single(range.begin) : std::nullopt;
     node.box = triangle ? compact_box(*triangle, node_corners(range)) : box(m, range, node.box);
     return m;
@@ -279,7 +293,7 @@ class PcaKernel {
 
   // The left child's origin is the parent's (both start at range.begin): only the right one moves.
   Value internal(Node& node, Range range, Value left, const Value& right, Scratch& /*scratch*/) const {
-    left.add(right, corners_only_);
+    left.add(right);
     node.box = box(left, range, node.box);
     return left;
   }
@@ -298,17 +312,13 @@ class PcaKernel {
   // measured once, in the stored float frame (compact_box_with_axes).
   [[nodiscard]] CompactBox box(const Moments& m, Range range, const CompactBox& previous) const {
     const auto corners = node_corners(range);
-    const Mat3 start = previous.axes_d();
-    // Zero total area: pca_triangle_axes falls back to the corners' covariance (rare: computed from
-    // the node's corners rather than carried up the tree).
-    const Mat3 axes = corners_only_  ? fit_detail::principal_axes_from(m.corner_covariance(), start)
-                      : m.area > 0.0 ? fit_detail::principal_axes_from(m.area_covariance(), start)
-                                     : fit_detail::pca_vertex_axes(corners, m.origin);
+    // Zero total area (rare): computed from the node's corners rather than carried up the tree.
+    const Mat3 axes = m.degenerate() ? fit_detail::pca_vertex_axes(corners, m.origin)
+                                     : fit_detail::principal_axes_from(m.covariance(), previous.axes_d());
     return compact_box_with_axes(corners, axes);
   }
 
   std::span<const Vec3> corners_;
-  bool corners_only_;
 };
 
 // ------------------------------------------------------------------ any other fitter
@@ -419,13 +429,15 @@ std::vector<Vec3> ordered_corners(const Tree& tree, const Mesh& mesh) {
 }  // namespace
 
 void refit(Tree& tree, const Mesh& mesh, const RefitOptions& options) {
-  (void)check_mesh(mesh, "refit: mesh");
+  require_valid_mesh(mesh, "refit: mesh");
   const Layout layout = layout_of(tree, mesh);
   const std::vector<Vec3> corners = ordered_corners(tree, mesh);
   const unsigned threads = options.threads != 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
   const auto* method = std::get_if<FitMethod>(&options.fitter);
-  if (method && (*method == FitMethod::pca || *method == FitMethod::pca_vertex))
-    refit_with(PcaKernel(corners, *method == FitMethod::pca_vertex), layout, threads, tree);
+  if (method && *method == FitMethod::pca)
+    refit_with(PcaKernel<AreaMoments>(corners), layout, threads, tree);
+  else if (method && *method == FitMethod::pca_vertex)
+    refit_with(PcaKernel<CornerMoments>(corners), layout, threads, tree);
   else
     refit_with(FitKernel(corners, options), layout, threads, tree);
 }

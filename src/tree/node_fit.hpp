@@ -24,7 +24,12 @@ namespace tightbvh::detail {
 [[nodiscard]] inline std::optional<Obb> triangle_box(const std::array<Vec3, 3>& c) {
   const Vec3 edges[3] = {c[1] - c[0], c[2] - c[1], c[0] - c[2]};
   const double len2[3] = {edges[0].squaredNorm(), edges[1].squaredNorm(), edges[2].squaredNorm()};
-  const int longest = len2[0] >= len2[1] ? (len2[0] >= len2[2] ? 0 : 2) : (len2[1] >= len2[2] ? 1 : 2);
+  // 0 if edge 0 is longest, else 1 if edge 1 is, else 2 (ties to the lower index), as arithmetic
+  // on the comparisons: which edge is longest is a coin toss, and half of all nodes are single
+  // triangles, so a branch here was mispredicted at every other leaf.
+  const int first_longest = (len2[0] >= len2[1]) & (len2[0] >= len2[2]);
+  const int second_longest = (len2[0] < len2[1]) & (len2[1] >= len2[2]);
+  const int longest = 2 - 2 * first_longest - second_longest;
   const Vec3 normal = edges[0].cross(edges[1]);
   const double normal_norm = normal.norm();
   // Degenerate (zero or tiny area relative to the edges): the fitter handles it robustly.

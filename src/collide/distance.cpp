@@ -285,12 +285,22 @@ class DistanceSearch {
           lower_bounds4(kids, count);
         }
       }
-      // The best child (the first on a tie, as the heap's order mostly had it); the others wait.
+      // The best child (the first on a tie, as the heap's order mostly had it); the others wait,
+      // but for pairs of two leaves, measured at once: their triangle tests rule most of them out
+      // cheaply (leaves()), for less than a push and a later pop, and a closer pair found early
+      // prunes more. The same distance (any order finds the least); 2-12% more triangle pairs
+      // measured, about 3-5% less time on the four bench pairs' separated and gap poses
+      // (2026-11-26, README "Distance and safety margin").
       int lo_index = 0;
       for (int k = 1; k < count; ++k)
         if (kids[k].bound < kids[lo_index].bound) lo_index = k;
-      for (int k = 0; k < count; ++k)
-        if (k != lo_index && !prunable(kids[k].bound)) push(heap, kids[k]);
+      for (int k = 0; k < count; ++k) {
+        if (k == lo_index || prunable(kids[k].bound)) continue;
+        if (ta_.nodes[kids[k].a].is_leaf() && tb_.nodes[kids[k].b].is_leaf())
+          leaves(kids[k].a, kids[k].b);
+        else
+          push(heap, kids[k]);
+      }
       const BoundedPair& lo = kids[lo_index];
       if (prunable(lo.bound)) {  // then so are the others
         if (heap.empty()) break;

@@ -112,6 +112,18 @@ TEST(Distance, MatchesBruteForceOnSlivers) {
   expect_matches_brute_force(a, random_soup(50, 5), 61, 1, {0.3, 0.6, 0.9, 1.0, 1.1, 1.3});
 }
 
+TEST(Distance, MatchesBruteForceFarApart) {
+  // Meshes many times their size apart: the search's separating-axis test of triangle pairs
+  // compares gaps along unnormalised axes (corner-to-corner vectors as long as the distance,
+  // cross products of edges) with the best distance times the axis length, and a mistake in that
+  // scaling rules out the closest pair only where the axes are far from unit length. Corner to
+  // corner (cubes), corner to face and edge to edge (random soups) at 1.5-60 radii.
+  const Mesh sphere = uv_sphere(8, 12);
+  expect_matches_brute_force(sphere, random_soup(60, 6), 70, 1, {1.5, 4.0, 20.0, 60.0});
+  expect_matches_brute_force(cube(), cube(Vec3(-0.5, -0.5, -0.5), 0.3), 71, 1, {1.5, 4.0, 20.0, 60.0});
+  expect_matches_brute_force(random_soup(40, 7, 0.3), random_soup(50, 8), 72, 1, {1.5, 4.0, 20.0, 60.0});
+}
+
 TEST(Distance, MatchesBruteForceShippedMeshes) {
   // knot1 against elephant (every 8th and 6th triangle: brute force stays fast), overlapping,
   // near and far poses.

@@ -101,6 +101,15 @@ CompactBox compact_box_with_axes(std::span<const Vec3> points, const Mat3& axes)
   return box;
 }
 
+CompactBox compact_aabb(const Aabb& bounds) {
+  if (bounds.empty()) throw InputError("compact_aabb: the bounds are empty");
+  CompactBox box;  // identity axes: the range along them is the bounds themselves
+  const Vec3 center = to_obb(bounds).center;
+  for (int i = 0; i < 3; ++i) box.center[i] = to_float(center[i]);
+  set_half_extents(box, bounds.min, bounds.max);
+  return box;
+}
+
 CompactBox nearest_compact_box(const Obb& box) {
   CompactBox out;
   for (int i = 0; i < 3; ++i) {

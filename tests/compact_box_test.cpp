@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -122,6 +123,25 @@ TEST(CompactBox, ProjectedRangeAvxEqualsScalarBitForBit) {
 #else
   GTEST_SKIP() << "no AVX path in this build";
 #endif
+}
+
+// compact_aabb (refit's aabb path, bounds merged from the children) is compact_box of the
+// points' axis-aligned box, bit for bit, at every scale and offset.
+TEST(CompactBox, AabbFromBoundsEqualsCompactBoxOfThePoints) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const double scale : {1e-3, 1.0, 1e4})
+    for (const double offset : {0.0, -3.0, 1e6})
+      for (int trial = 0; trial < 30; ++trial) {
+        std::vector<Vec3> points;
+        for (int i = 0; i < 1 + trial % 9; ++i) points.push_back(Vec3::Constant(offset) + scale * Vec3(u(rng), u(rng), u(rng)));
+        const Aabb bounds = bounds_of(points);
+        const CompactBox want = compact_box(to_obb(bounds), points);
+        const CompactBox got = compact_aabb(bounds);
+        EXPECT_EQ(0, std::memcmp(&want, &got, sizeof(CompactBox))) << "scale " << scale << " offset " << offset;
+        for (const Vec3& p : points) ASSERT_TRUE(contains_as_stored(got, p));
+      }
+  EXPECT_THROW((void)compact_aabb(Aabb{}), InputError);
 }
 
 TEST(CompactBox, AxisAlignedBoxesKeepExactAxes) {

@@ -22,6 +22,7 @@
 
 #include <Eigen/Core>
 
+#include "tightbvh/aabb.hpp"
 #include "tightbvh/math.hpp"
 #include "tightbvh/obb.hpp"
 
@@ -53,6 +54,11 @@ struct CompactBox {
 // box does (same padding, see compact_box.cpp). `axes` orthonormal; throws InputError when
 // `points` is empty.
 [[nodiscard]] CompactBox compact_box_with_axes(std::span<const Vec3> points, const Mat3& axes);
+
+// The float box of an axis-aligned range (identity axes, exact in float): bit for bit
+// compact_box(to_obb(bounds), points) for any finite points whose bounds are `bounds`, in O(1).
+// Lets refit merge a node's axis-aligned bounds from its children's. `bounds` not empty.
+[[nodiscard]] CompactBox compact_aabb(const Aabb& bounds);
 
 // The nearest float box, with no containment guarantee: for boxes made by hand (tests, tools).
 [[nodiscard]] CompactBox nearest_compact_box(const Obb& box);

@@ -321,6 +321,32 @@ class PcaKernel {
   std::span<const Vec3> corners_;
 };
 
+// ------------------------------------------------------------------ the fast aabb path
+
+// aabb: the bounds of a node are the union of its children's, exactly, so a node costs O(1) and
+// its box is the one build() gives, bit for bit (compact_aabb).
+class AabbKernel {
+ public:
+  using Value = Aabb;
+  using Scratch = PcaScratch;
+
+  explicit AabbKernel(std::span<const Vec3> corners) : corners_(corners) {}
+
+  Value leaf(Node& node, Range range, Scratch& /*scratch*/) const {
+    const Aabb bounds = bounds_of(corners_.subspan(3 * std::size_t{range.begin}, 3 * std::size_t{range.size()}));
+    node.box = compact_aabb(bounds);
+    return bounds;
+  }
+  Value internal(Node& node, Range /*range*/, Value left, const Value& right, Scratch& /*scratch*/) const {
+    left.extend(right.min), left.extend(right.max);
+    node.box = compact_aabb(left);
+    return left;
+  }
+
+ private:
+  std::span<const Vec3> corners_;
+};
+
 // ------------------------------------------------------------------ any other fitter
 
 struct NoValue {};
@@ -438,6 +464,8 @@ void refit(Tree& tree, const Mesh& mesh, const RefitOptions& options) {
     refit_with(PcaKernel<AreaMoments>(corners), layout, threads, tree);
   else if (method && *method == FitMethod::pca_vertex)
     refit_with(PcaKernel<CornerMoments>(corners), layout, threads, tree);
+  else if (method && *method == FitMethod::aabb)
+    refit_with(AabbKernel(corners), layout, threads, tree);
   else
     refit_with(FitKernel(corners, options), layout, threads, tree);
 }

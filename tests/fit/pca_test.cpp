@@ -146,6 +146,13 @@ TEST(FitSimple, WorkspaceReuseGivesSameBoxes) {
   return ::testing::AssertionSuccess();
 }
 
+// Spectra with repeated eigenvalues, near-ties and many orders of magnitude.
+std::vector<Vec3> hard_spectra() {
+  return {{1, 1, 1},     {2, 1, 1},        {1, 1, 0},           {1, 0, 0},
+          {1, 1, 1e-12}, {1, 1 + 1e-9, 1}, {1, 1 - 1e-14, 0.5}, {1e6, 1, 1e-6},
+          {3, 2, 1},     {1e-300, 1e-300, 2e-300}, {5, 5, 5 + 1e-13}};
+}
+
 // principal_axes_from (refit's Jacobi sweeps from the previous axes): an eigenframe as
 // principal_axes' for the same spectra, from starts near the answer (a float-rounded or slightly
 // turned eigenframe, as after a frame's deformation), far from it (random) and degenerate (zero
@@ -153,10 +160,7 @@ TEST(FitSimple, WorkspaceReuseGivesSameBoxes) {
 // directions in that eigenspace are kept.
 TEST(FitSimple, PrincipalAxesFromAStartAreAnEigenframe) {
   std::mt19937_64 rng(6);
-  const std::vector<Vec3> spectra{{1, 1, 1},     {2, 1, 1},        {1, 1, 0},           {1, 0, 0},
-                                  {1, 1, 1e-12}, {1, 1 + 1e-9, 1}, {1, 1 - 1e-14, 0.5}, {1e6, 1, 1e-6},
-                                  {3, 2, 1},     {1e-300, 1e-300, 2e-300}, {5, 5, 5 + 1e-13}};
-  for (const Vec3& d : spectra)
+  for (const Vec3& d : hard_spectra())
     for (int trial = 0; trial < 50; ++trial) {
       const Mat3 r = trial == 0 ? Mat3::Identity() : test::random_rotation(rng);
       const Mat3 c = r * d.asDiagonal() * r.transpose();
@@ -182,10 +186,7 @@ TEST(FitSimple, PrincipalAxesFromAStartAreAnEigenframe) {
 
 TEST(FitSimple, PrincipalAxesAreAnEigenframeForRepeatedAndNearlyRepeatedEigenvalues) {
   std::mt19937_64 rng(5);
-  const std::vector<Vec3> spectra{{1, 1, 1},         {2, 1, 1},        {1, 1, 0},          {1, 0, 0},
-                                  {1, 1, 1e-12},     {1, 1 + 1e-9, 1}, {1, 1 - 1e-14, 0.5}, {1e6, 1, 1e-6},
-                                  {3, 2, 1},         {1e-300, 1e-300, 2e-300}, {5, 5, 5 + 1e-13}};
-  for (const Vec3& d : spectra)
+  for (const Vec3& d : hard_spectra())
     for (int trial = 0; trial < 50; ++trial) {
       const Mat3 r = trial == 0 ? Mat3::Identity() : test::random_rotation(rng);
       const Mat3 c = r * d.asDiagonal() * r.transpose();

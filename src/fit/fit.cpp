@@ -94,13 +94,15 @@ bool distinct_small(std::span<const Vec3> points, std::size_t limit, std::vector
 // extents pass: only when something is not finite is the input scanned for the bad point.
 Obb fit_checked(std::span<const Vec3> points, const FitOptions& options, FitWorkspace& workspace);
 
-Obb fit_pca(std::span<const Vec3> points, std::span<const Vec3> triangle_corners) {
+// `given`: the PCA axes when the caller already has them (a tree node's, from its moments).
+Obb fit_pca(std::span<const Vec3> points, std::span<const Vec3> triangle_corners, const Mat3* given = nullptr) {
   using namespace fit_detail;
   if (points.empty()) throw InputError("fit: empty point set");
   const Vec3 origin = points[0];
   if (!origin.allFinite()) check_finite(points);
-  const Mat3 axes = triangle_corners.empty() ? pca_vertex_axes(points, origin)
-                                             : pca_triangle_axes(triangle_corners, origin);
+  const Mat3 axes = given                     ? *given
+                    : triangle_corners.empty() ? pca_vertex_axes(points, origin)
+                                               : pca_triangle_axes(triangle_corners, origin);
   bool finite = true;
   const Obb box = box_with_axes(points, axes, origin, finite);
   if (!finite) check_finite(points);  // throws on NaN/Inf input; an overflow keeps the box
@@ -185,11 +187,12 @@ void extreme_point_kernel(std::span<const Vec3> points, const Obb& frame, std::v
   sort_unique(out);
 }
 
-Obb fit_kernel(std::span<const Vec3> points, std::span<const Vec3> triangle_corners, FitWorkspace& workspace) {
+Obb fit_kernel(std::span<const Vec3> points, std::span<const Vec3> triangle_corners, FitWorkspace& workspace,
+               const Mat3* pca_axes = nullptr) {
   using namespace fit_detail;
   FitOptions approx;  // flat or collinear kernels: approx on the whole set handles them
   approx.method = FitMethod::approx;
-  const Obb pca = fit_pca(points, triangle_corners);  // throws on NaN/Inf
+  const Obb pca = fit_pca(points, triangle_corners, pca_axes);  // throws on NaN/Inf
   auto& s = workspace.scratch();
   const bool large = points.size() >= kKernelLargeSet;
   extreme_point_kernel(points, pca, s.distinct);
@@ -224,9 +227,10 @@ Obb fit_kernel(std::span<const Vec3> points, std::span<const Vec3> triangle_corn
 // although it gets only 30-45% of approx's volume gain on those nodes: boxes flush with a patch
 // are thin where the other mesh's surface comes close. The PCA box is kept when smaller (a patch
 // that folds over, a normal that sums to nothing).
-Obb fit_normal_bopt(std::span<const Vec3> points, std::span<const Vec3> triangle_corners, FitWorkspace& workspace) {
+Obb fit_normal_bopt(std::span<const Vec3> points, std::span<const Vec3> triangle_corners, FitWorkspace& workspace,
+                    const Mat3* pca_axes = nullptr) {
   using namespace fit_detail;
-  const Obb pca = fit_pca(points, triangle_corners);  // throws on empty or NaN/Inf input
+  const Obb pca = fit_pca(points, triangle_corners, pca_axes);  // throws on empty or NaN/Inf input
   Vec3 normal = Vec3::Zero();
   if (triangle_corners.empty()) {
     Eigen::Index thinnest = 0;
@@ -296,6 +300,28 @@ Obb fit_checked(std::span<const Vec3> points, const FitOptions& options, FitWork
 }
 
 }  // namespace
+
+namespace fit_detail {
+
+bool uses_pca_axes(FitMethod method) {
+  return method == FitMethod::approx_kernel || method == FitMethod::normal_bopt;
+}
+
+Obb fit_triangles_with_pca_axes(std::span<const Vec3> corners, std::span<const Vec3> vertices,
+                                const FitOptions& options, FitWorkspace& workspace, const Mat3& pca_axes) {
+  if (corners.size() % 3 != 0) throw InputError("fit: triangle corners must come in threes");
+  if (corners.empty() != vertices.empty()) throw InputError("fit: corners and vertices must be the same point set");
+  switch (options.method) {
+    case FitMethod::approx_kernel:
+      return fit_kernel(vertices, corners, workspace, &pca_axes);
+    case FitMethod::normal_bopt:
+      return fit_normal_bopt(vertices, corners, workspace, &pca_axes);
+    default:
+      return fit_triangles(corners, vertices, options, workspace);
+  }
+}
+
+}  // namespace fit_detail
 
 FitWorkspace::FitWorkspace() : scratch_(std::make_unique<Scratch>()) {}
 FitWorkspace::~FitWorkspace() = default;

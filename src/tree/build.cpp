@@ -63,6 +63,12 @@ struct Moments {
 };
 constexpr Index kMaxDerivedShrink = 16;
 
+// Whether some node may ask for its distinct vertices (every method but pca and pca-vertex).
+[[nodiscard]] bool uses_distinct_vertices(const Fitter& fitter) {
+  const auto* m = std::get_if<FitMethod>(&fitter);
+  return m == nullptr || (*m != FitMethod::pca && *m != FitMethod::pca_vertex);
+}
+
 // Range of triangle_order owned by a node being built.
 struct Pending {
   Index node;
@@ -88,6 +94,10 @@ class Builder {
       : mesh_(mesh), options_(options), order_(order) {
     detail::reserve_huge_pages(corners_, 3 * order.size());
     triangle_corners(mesh, order, corners_);  // order is still the identity
+    if (uses_distinct_vertices(options.fitter)) {
+      detail::reserve_huge_pages(ids_, order.size());
+      ids_.assign(mesh.triangles.begin(), mesh.triangles.end());
+    }
   }
 
   // Fits the node's box; returns the split point (begin < mid < end), or `end` for a leaf.
@@ -117,6 +127,8 @@ class Builder {
     }
     const Index mid = begin + static_cast<Index>(detail::split(options_.split, std::span<Index>(order_).subspan(begin, n),
                                                     std::span<Vec3>(corners_).subspan(3 * std::size_t{begin}, 3 * std::size_t{n}),
+                                                    ids_.empty() ? std::span<detail::VertexIds>{}
+                                                                 : std::span<detail::VertexIds>(ids_).subspan(begin, n),
                                                     fitted, scratch.split));
     if (moments.valid) derive_children(moments, begin, mid, end, left, right);
     return mid;
@@ -186,18 +198,25 @@ class Builder {
       stamp.assign(mesh_.vertices.size(), 0);
       scratch.stamp_epoch = 1;
     }
-    scratch.vertices.clear();
+    // The vertex indices from the position-indexed copy (contiguous, where mesh_.triangles[order_[p]]
+    // was a cache miss per triangle on large meshes), the positions from the node's own corners
+    // (just read by the fitter), and no branch: every corner is written and counted when new
+    // (whether a vertex was seen is unpredictable, ~1 corner in 3 to 6 is new). The same vertices
+    // in the same order as a push_back of the new ones.
+    const std::uint32_t epoch = scratch.stamp_epoch;
+    if (scratch.vertices.size() < 3 * std::size_t{end - begin}) scratch.vertices.resize(3 * std::size_t{end - begin});
+    Vec3* out = scratch.vertices.data();
+    std::size_t count = 0;
     for (Index p = begin; p < end; ++p) {
-      const Triangle& t = mesh_.triangles[order_[p]];
-      for (int k = 0; k < 3; ++k)
-        if (stamp[t[k]] != scratch.stamp_epoch) {
-          stamp[t[k]] = scratch.stamp_epoch;
-          // The position from the node's own corners (contiguous, just read by the fitter), not
-          // from the mesh's vertex array (a cache miss per vertex on large meshes).
-          scratch.vertices.push_back(corners_[3 * std::size_t{p} + k]);
-        }
+      const detail::VertexIds& t = ids_[p];
+      for (int k = 0; k < 3; ++k) {
+        const bool fresh = stamp[t[k]] != epoch;
+        stamp[t[k]] = epoch;
+        out[count] = corners_[3 * std::size_t{p} + k];
+        count += fresh ? 1 : 0;
+      }
     }
-    return scratch.vertices;
+    return {out, count};
   }
 
   [[nodiscard]] std::span<const Vec3> node_corners(Index begin, Index end) const {
@@ -225,6 +244,9 @@ class Builder {
   // with corners corners_[3p..3p+3). Each node (and each task) touches only its own range.
   std::vector<Index>& order_;
   std::vector<Vec3> corners_;
+  // Position-indexed like corners_: the mesh vertex indices of the triangle at each position, for
+  // the fitters that find a node's distinct vertices (empty for pca and pca-vertex).
+  std::vector<detail::VertexIds> ids_;
 };
 
 // Subtrees at most this large are built by one task, sequentially; above it every node is a task

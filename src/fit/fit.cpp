@@ -147,32 +147,68 @@ void extreme_point_kernel(std::span<const Vec3> points, const Obb& frame, std::v
   alignas(16) std::array<double, kPadded> lo, hi, at_lo{}, at_hi{};
   lo.fill(std::numeric_limits<double>::infinity());
   hi.fill(-std::numeric_limits<double>::infinity());
+#ifdef TIGHTBVH_FIT_SSE2
+  // Blocks of kBlock points: the block's extremes by min/max (two directions per instruction, no
+  // index to carry), then, only for the directions where the block beats the running extreme
+  // (after the first blocks: rarely, so the branch is predictable), the first point of the block
+  // reaching it, found by computing its projection again (the same operations, so the same
+  // value). The same extremes and points as a point-by-point scan with strict comparisons (the
+  // first point that reaches an extreme), at ~45% fewer instructions: the index selects of that
+  // scan cost as much as the projections.
+  constexpr std::size_t kBlock = 8;
+  const auto projection = [&](std::size_t p, std::size_t i) {
+    const Vec3 q = points[p] - frame.center;
+    return _mm_add_pd(_mm_add_pd(_mm_mul_pd(_mm_load_pd(&dx[i]), _mm_set1_pd(q.x())), _mm_mul_pd(_mm_load_pd(&dy[i]), _mm_set1_pd(q.y()))),
+                      _mm_mul_pd(_mm_load_pd(&dz[i]), _mm_set1_pd(q.z())));
+  };
+  // The first point of [begin, end) whose projection on direction i + j is `value`.
+  const auto first_reaching = [&](std::size_t begin, std::size_t end, std::size_t i, std::size_t j, double value) {
+    std::size_t p = begin;
+    for (; p + 1 < end; ++p) {
+      alignas(16) double d[2];
+      _mm_store_pd(d, projection(p, i));
+      if (d[j] == value) break;
+    }
+    return p;
+  };
+  alignas(16) std::array<double, kPadded> block_lo, block_hi;
+  for (std::size_t b = 0; b < points.size(); b += kBlock) {
+    const std::size_t b_end = std::min(points.size(), b + kBlock);
+    block_lo.fill(std::numeric_limits<double>::infinity());
+    block_hi.fill(-std::numeric_limits<double>::infinity());
+    for (std::size_t p = b; p < b_end; ++p)
+      for (std::size_t i = 0; i < kPadded; i += 2) {
+        const __m128d d = projection(p, i);
+        _mm_store_pd(&block_lo[i], _mm_min_pd(_mm_load_pd(&block_lo[i]), d));
+        _mm_store_pd(&block_hi[i], _mm_max_pd(_mm_load_pd(&block_hi[i]), d));
+      }
+    for (std::size_t i = 0; i < kPadded; i += 2) {
+      const int below = _mm_movemask_pd(_mm_cmplt_pd(_mm_load_pd(&block_lo[i]), _mm_load_pd(&lo[i])));
+      const int above = _mm_movemask_pd(_mm_cmpgt_pd(_mm_load_pd(&block_hi[i]), _mm_load_pd(&hi[i])));
+      if ((below | above) == 0) continue;
+      for (std::size_t j = 0; j < 2; ++j) {
+        if (below & (1 << j)) {
+          lo[i + j] = block_lo[i + j];
+          at_lo[i + j] = static_cast<double>(first_reaching(b, b_end, i, j, lo[i + j]));
+        }
+        if (above & (1 << j)) {
+          hi[i + j] = block_hi[i + j];
+          at_hi[i + j] = static_cast<double>(first_reaching(b, b_end, i, j, hi[i + j]));
+        }
+      }
+    }
+  }
+#else
   for (std::size_t p = 0; p < points.size(); ++p) {
     const Vec3 q = points[p] - frame.center;
     const double index = static_cast<double>(p);
-#ifdef TIGHTBVH_FIT_SSE2
-    // Two directions per instruction, selects instead of branches: the branches of the scalar
-    // loop were unpredictable, and GCC does not if-convert them (it keeps them for the possible
-    // floating-point traps). The same products and sums in the same order as the scalar loop.
-    const __m128d qx = _mm_set1_pd(q.x()), qy = _mm_set1_pd(q.y()), qz = _mm_set1_pd(q.z()), at = _mm_set1_pd(index);
-    for (std::size_t i = 0; i < kPadded; i += 2) {
-      const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(_mm_load_pd(&dx[i]), qx), _mm_mul_pd(_mm_load_pd(&dy[i]), qy)),
-                                   _mm_mul_pd(_mm_load_pd(&dz[i]), qz));
-      const __m128d l = _mm_load_pd(&lo[i]), h = _mm_load_pd(&hi[i]);
-      const __m128d below = _mm_cmplt_pd(d, l), above = _mm_cmpgt_pd(d, h);
-      _mm_store_pd(&lo[i], _mm_or_pd(_mm_and_pd(below, d), _mm_andnot_pd(below, l)));
-      _mm_store_pd(&at_lo[i], _mm_or_pd(_mm_and_pd(below, at), _mm_andnot_pd(below, _mm_load_pd(&at_lo[i]))));
-      _mm_store_pd(&hi[i], _mm_or_pd(_mm_and_pd(above, d), _mm_andnot_pd(above, h)));
-      _mm_store_pd(&at_hi[i], _mm_or_pd(_mm_and_pd(above, at), _mm_andnot_pd(above, _mm_load_pd(&at_hi[i]))));
-    }
-#else
     for (std::size_t i = 0; i < kPadded; ++i) {
       const double d = dx[i] * q.x() + dy[i] * q.y() + dz[i] * q.z();
       if (d < lo[i]) lo[i] = d, at_lo[i] = index;
       if (d > hi[i]) hi[i] = d, at_hi[i] = index;
     }
-#endif
   }
+#endif
   // Many directions share an extreme point: drop repeated indices first (cheap integer sort), so
   // that only the distinct points are sorted (the same result as sorting all 98).
   std::array<std::size_t, 2 * kMax> at;

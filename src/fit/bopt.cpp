@@ -22,14 +22,15 @@ AxisBox box_from(const Mat3& frame, const Rect2& rect, double lo, double hi) {
   return box;
 }
 
-// Bopt for a geometry without hull: project every point, extents along v by a scan.
-AxisBox bopt_points(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
+}  // namespace
+
+AxisBox bopt_of_points(std::span<const Vec3> points, const Vec3& origin, const Vec3& v, BoptScratch& s) {
   const Mat3 frame = frame_from_axis(v);
   const Vec3 a = frame.col(0), u = frame.col(1), w = frame.col(2);
-  s.projected.resize(g.local.size());
+  s.projected.resize(points.size());
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (std::size_t i = 0; i < g.local.size(); ++i) {
-    const Vec3& p = g.local[i];
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3 p = points[i] - origin;
     const double t = a.dot(p);
     lo = std::min(lo, t);
     hi = std::max(hi, t);
@@ -37,6 +38,13 @@ AxisBox bopt_points(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
   }
   const std::size_t m = convex_hull_2d(s.projected, s.chain);
   return box_from(frame, min_area_rect(std::span<const Vec2>(s.projected.data(), m)), lo, hi);
+}
+
+namespace {
+
+// Bopt for a geometry without hull: project every point, extents along v by a scan.
+AxisBox bopt_points(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
+  return bopt_of_points(g.local, Vec3::Zero(), v, s);
 }
 
 }  // namespace

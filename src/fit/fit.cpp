@@ -279,8 +279,9 @@ Obb fit_normal_bopt(std::span<const Vec3> points, std::span<const Vec3> triangle
   if (!(normal.squaredNorm() > 0.0) || !normal.allFinite()) return pca;
   auto& s = workspace.scratch();
   s.last_hull_vertices = 0;
-  s.geometry.reset_points(points, pca.center);  // no 3D hull: the 2D hull of the projection suffices
-  const AxisBox best = bopt(s.geometry, normal, s.bopt);
+  ++s.bopt.calls;
+  // No 3D hull: the 2D hull of the projection suffices (and no copy of the points either).
+  const AxisBox best = bopt_of_points(points, pca.center, normal, s.bopt);
   // Bopt projected every point: its extents are the set's in its frame (orthonormal to rounding),
   // so no second pass over the points measures them again.
   Obb box;

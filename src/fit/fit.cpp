@@ -171,28 +171,37 @@ void extreme_point_kernel(std::span<const Vec3> points, const Obb& frame, std::v
     }
     return p;
   };
-  alignas(16) std::array<double, kPadded> block_lo, block_hi;
+  __m128d qx[kBlock], qy[kBlock], qz[kBlock];  // the block's points relative to the center, broadcast
   for (std::size_t b = 0; b < points.size(); b += kBlock) {
     const std::size_t b_end = std::min(points.size(), b + kBlock);
-    block_lo.fill(std::numeric_limits<double>::infinity());
-    block_hi.fill(-std::numeric_limits<double>::infinity());
-    for (std::size_t p = b; p < b_end; ++p)
-      for (std::size_t i = 0; i < kPadded; i += 2) {
-        const __m128d d = projection(p, i);
-        _mm_store_pd(&block_lo[i], _mm_min_pd(_mm_load_pd(&block_lo[i]), d));
-        _mm_store_pd(&block_hi[i], _mm_max_pd(_mm_load_pd(&block_hi[i]), d));
-      }
+    const std::size_t count = b_end - b;
+    for (std::size_t k = 0; k < count; ++k) {
+      const Vec3 q = points[b + k] - frame.center;
+      qx[k] = _mm_set1_pd(q.x()), qy[k] = _mm_set1_pd(q.y()), qz[k] = _mm_set1_pd(q.z());
+    }
+    // Direction pair by direction pair, so that the pair and its block extremes stay in registers.
     for (std::size_t i = 0; i < kPadded; i += 2) {
-      const int below = _mm_movemask_pd(_mm_cmplt_pd(_mm_load_pd(&block_lo[i]), _mm_load_pd(&lo[i])));
-      const int above = _mm_movemask_pd(_mm_cmpgt_pd(_mm_load_pd(&block_hi[i]), _mm_load_pd(&hi[i])));
+      const __m128d ax = _mm_load_pd(&dx[i]), ay = _mm_load_pd(&dy[i]), az = _mm_load_pd(&dz[i]);
+      __m128d block_lo = _mm_set1_pd(std::numeric_limits<double>::infinity());
+      __m128d block_hi = _mm_set1_pd(-std::numeric_limits<double>::infinity());
+      for (std::size_t k = 0; k < count; ++k) {
+        const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(ax, qx[k]), _mm_mul_pd(ay, qy[k])), _mm_mul_pd(az, qz[k]));
+        block_lo = _mm_min_pd(block_lo, d);
+        block_hi = _mm_max_pd(block_hi, d);
+      }
+      const int below = _mm_movemask_pd(_mm_cmplt_pd(block_lo, _mm_load_pd(&lo[i])));
+      const int above = _mm_movemask_pd(_mm_cmpgt_pd(block_hi, _mm_load_pd(&hi[i])));
       if ((below | above) == 0) continue;
+      alignas(16) double block_lo_at[2], block_hi_at[2];
+      _mm_store_pd(block_lo_at, block_lo);
+      _mm_store_pd(block_hi_at, block_hi);
       for (std::size_t j = 0; j < 2; ++j) {
         if (below & (1 << j)) {
-          lo[i + j] = block_lo[i + j];
+          lo[i + j] = block_lo_at[j];
           at_lo[i + j] = static_cast<double>(first_reaching(b, b_end, i, j, lo[i + j]));
         }
         if (above & (1 << j)) {
-          hi[i + j] = block_hi[i + j];
+          hi[i + j] = block_hi_at[j];
           at_hi[i + j] = static_cast<double>(first_reaching(b, b_end, i, j, hi[i + j]));
         }
       }

@@ -69,17 +69,24 @@ constexpr Index kMaxDerivedShrink = 16;
   return m == nullptr || (*m != FitMethod::pca && *m != FitMethod::pca_vertex);
 }
 
+// Whether some node may be fitted from its PCA box by a method that takes derived moments.
+[[nodiscard]] bool uses_moments(const Fitter& fitter) {
+  if (const auto* m = std::get_if<FitMethod>(&fitter)) return fit_detail::uses_pca_axes(*m);
+  const AutoFit& a = std::get<AutoFit>(fitter);
+  return fit_detail::uses_pca_axes(a.tight) || fit_detail::uses_pca_axes(a.medium) || fit_detail::uses_pca_axes(a.cheap);
+}
+
 // Range of triangle_order owned by a node being built.
 struct Pending {
   Index node;
   Index begin;
   Index end;
-  Moments moments;
 };
 
 // Per-worker buffers, reused from node to node: no allocation per node once they have grown.
 struct Scratch {
   std::vector<Pending> stack;
+  std::vector<Moments> moments;  // parallel to stack, for fitters that use moments (not pca)
   FitWorkspace fit;  // hulls, projections, ... of the fitters
   detail::SplitScratch split;
   // The node's distinct vertices, found with a stamp per mesh vertex (no sorting, no hashing).
@@ -94,6 +101,7 @@ class Builder {
       : mesh_(mesh), options_(options), order_(order) {
     detail::reserve_huge_pages(corners_, 3 * order.size());
     triangle_corners(mesh, order, corners_);  // order is still the identity
+    uses_moments_ = uses_moments(options.fitter);
     if (uses_distinct_vertices(options.fitter)) {
       detail::reserve_huge_pages(ids_, order.size());
       ids_.assign(mesh.triangles.begin(), mesh.triangles.end());
@@ -107,7 +115,7 @@ class Builder {
                 Moments& right) {
     left.valid = right.valid = false;
     const Index n = end - begin;
-    if (!wants_moments(n)) {
+    if (!uses_moments_ || !wants_moments(n)) {
       moments.valid = false;
     } else if (!moments.valid || (moments.anchor != n && !takes_derived_moments(n))) {
       moments.sums = fit_detail::area_moments(node_corners(begin, end), corners_[3 * std::size_t{begin}]);
@@ -140,19 +148,29 @@ class Builder {
   std::size_t build_subtree(Index root, Index begin, Index end, std::span<Node> nodes, std::size_t next,
                             Scratch& scratch) {
     auto& stack = scratch.stack;
-    stack.assign(1, {root, begin, end, {}});
-    Moments left, right;
+    auto& stacked = scratch.moments;  // kept only when the fitter uses moments: pca's stack stays small
+    stack.assign(1, {root, begin, end});
+    stacked.assign(uses_moments_ ? 1 : 0, Moments{});
+    Moments moments, left, right;
     while (!stack.empty()) {
-      Pending p = stack.back();
+      const Pending p = stack.back();
       stack.pop_back();
+      if (uses_moments_) {
+        moments = stacked.back();
+        stacked.pop_back();
+      }
       Node& node = nodes[p.node];
-      const Index mid = process(node, p.begin, p.end, scratch, p.moments, left, right);
+      const Index mid = process(node, p.begin, p.end, scratch, moments, left, right);
       if (mid != p.end) {
         node.first = static_cast<Index>(next);
         node.count = 0;
         next += 2;
-        stack.push_back({node.first + 1, mid, p.end, right});
-        stack.push_back({node.first, p.begin, mid, left});
+        stack.push_back({node.first + 1, mid, p.end});
+        stack.push_back({node.first, p.begin, mid});
+        if (uses_moments_) {
+          stacked.push_back(right);
+          stacked.push_back(left);
+        }
       }
     }
     return next;
@@ -247,6 +265,7 @@ class Builder {
   // Position-indexed like corners_: the mesh vertex indices of the triangle at each position, for
   // the fitters that find a node's distinct vertices (empty for pca and pca-vertex).
   std::vector<detail::VertexIds> ids_;
+  bool uses_moments_ = false;
 };
 
 // Subtrees at most this large are built by one task, sequentially; above it every node is a task

@@ -26,7 +26,9 @@ struct BoptScratch {
 [[nodiscard]] AxisBox bopt(const HullGeometry& g, const Vec3& v, BoptScratch& scratch);
 
 // Bopt(S, {v}) of the points themselves (no hull: every point projected), relative to `origin`:
-// the same box as bopt() on a HullGeometry reset_points(points, origin), without the copy.
+// the box of bopt() on a HullGeometry reset_points(points, origin), without the copy; sets of at
+// most kMinAreaRectOfPointsMax points take their rectangle from min_area_rect_of_points (the same
+// rectangle up to rounding and ties between equal areas, without the 2D hull).
 [[nodiscard]] AxisBox bopt_of_points(std::span<const Vec3> points, const Vec3& origin, const Vec3& v,
                                      BoptScratch& scratch);
 

@@ -91,10 +91,10 @@ Rect2 min_area_rect_of_points(std::span<const Vec2> points) {
       const double len2 = e.squaredNorm();
       if (!(len2 > 0.0)) continue;
       const Vec2 v(-e.y(), e.x());
-      double u_lo = 0.0, u_hi = 0.0, v_lo = 0.0, v_hi = 0.0;  // relative to points[i]
-      for (std::size_t k = 0; k < n; ++k) {
-        const Vec2 d = points[k] - points[i];
-        const double a = e.dot(d), b = v.dot(d);
+      // The spans of the points' own projections (the callers' points are near their origin).
+      double u_lo = e.dot(points[0]), u_hi = u_lo, v_lo = v.dot(points[0]), v_hi = v_lo;
+      for (std::size_t k = 1; k < n; ++k) {
+        const double a = e.dot(points[k]), b = v.dot(points[k]);
         u_lo = std::min(u_lo, a), u_hi = std::max(u_hi, a);
         v_lo = std::min(v_lo, b), v_hi = std::max(v_hi, b);
       }

@@ -19,4 +19,13 @@ struct Rect2 {
 // rectangle along the segment.
 [[nodiscard]] Rect2 min_area_rect(std::span<const Vec2> polygon);
 
+// The minimum-area rectangle of a few points in any order (no hull needed): one side of it is
+// flush with a hull edge (Freeman & Shapira), and every direction through two of the points gives
+// a rectangle containing them all, so the smallest over the n(n-1)/2 pair directions is the
+// minimum. O(n^3) but without branches on the data: cheaper than convex_hull_2d + min_area_rect
+// up to about kMinAreaRectOfPointsMax points. Zero-area rectangles for collinear or coincident
+// points, as min_area_rect.
+inline constexpr std::size_t kMinAreaRectOfPointsMax = 8;
+[[nodiscard]] Rect2 min_area_rect_of_points(std::span<const Vec2> points);
+
 }  // namespace tightbvh

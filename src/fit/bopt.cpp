@@ -22,24 +22,41 @@ AxisBox box_from(const Mat3& frame, const Rect2& rect, double lo, double hi) {
   return box;
 }
 
-// Bopt for a geometry without hull: project every point, extents along v by a scan.
-AxisBox bopt_points(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
+}  // namespace
+
+namespace {
+
+// Projects every point; `small_without_hull`: sets of at most kMinAreaRectOfPointsMax points get
+// their rectangle from min_area_rect_of_points, without the 2D hull.
+AxisBox project_all(std::span<const Vec3> points, const Vec3& origin, const Vec3& v, BoptScratch& s,
+                    bool small_without_hull) {
   const Mat3 frame = frame_from_axis(v);
   const Vec3 a = frame.col(0), u = frame.col(1), w = frame.col(2);
-  s.projected.resize(g.local.size());
+  s.projected.resize(points.size());
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (std::size_t i = 0; i < g.local.size(); ++i) {
-    const Vec3& p = g.local[i];
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3 p = points[i] - origin;
     const double t = a.dot(p);
     lo = std::min(lo, t);
     hi = std::max(hi, t);
     s.projected[i] = Vec2(u.dot(p), w.dot(p));
   }
+  if (small_without_hull && points.size() <= kMinAreaRectOfPointsMax)
+    return box_from(frame, min_area_rect_of_points(s.projected), lo, hi);
   const std::size_t m = convex_hull_2d(s.projected, s.chain);
   return box_from(frame, min_area_rect(std::span<const Vec2>(s.projected.data(), m)), lo, hi);
 }
 
+// Bopt for a geometry without hull: project every point, extents along v by a scan.
+AxisBox bopt_points(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
+  return project_all(g.local, Vec3::Zero(), v, s, false);
+}
+
 }  // namespace
+
+AxisBox bopt_of_points(std::span<const Vec3> points, const Vec3& origin, const Vec3& v, BoptScratch& s) {
+  return project_all(points, origin, v, s, true);
+}
 
 AxisBox bopt(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
   ++s.calls;

@@ -2,6 +2,7 @@
 // Internal: Bopt(S, {v}) of Barequet & Har-Peled (Section 6.3): the minimum-volume box of
 // the hull with one axis along v, by projecting the hull's silhouette and rotating calipers.
 #include <cstdint>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -23,6 +24,13 @@ struct BoptScratch {
 
 // Bopt(S, {v}) for the solid hull `g` (v need not be unit; a zero v gives an infinite box).
 [[nodiscard]] AxisBox bopt(const HullGeometry& g, const Vec3& v, BoptScratch& scratch);
+
+// Bopt(S, {v}) of the points themselves (no hull: every point projected), relative to `origin`:
+// the box of bopt() on a HullGeometry reset_points(points, origin), without the copy; sets of at
+// most kMinAreaRectOfPointsMax points take their rectangle from min_area_rect_of_points (the same
+// rectangle up to rounding and ties between equal areas, without the 2D hull).
+[[nodiscard]] AxisBox bopt_of_points(std::span<const Vec3> points, const Vec3& origin, const Vec3& v,
+                                     BoptScratch& scratch);
 
 // The local improvement step of Section 6.5: re-solve Bopt along each axis of the box while
 // a round lowers the volume by more than the relative `min_gain` (at most `max_rounds` rounds;

@@ -10,6 +10,15 @@
 
 namespace tightbvh::fit_detail {
 
+// Whether `method` starts from the set's PCA box (approx-kernel, normal-bopt): the tree builder
+// then hands it the node's PCA axes, from moments it derives along the tree (build.cpp).
+[[nodiscard]] bool uses_pca_axes(FitMethod method);
+// fit_triangles(corners, vertices, options, workspace) with the PCA axes of the triangles
+// (pca_triangle_axes(corners, vertices[0]), or the same up to rounding) given; methods that do
+// not use them ignore them.
+[[nodiscard]] Obb fit_triangles_with_pca_axes(std::span<const Vec3> corners, std::span<const Vec3> vertices,
+                                              const FitOptions& options, FitWorkspace& workspace, const Mat3& pca_axes);
+
 // B*(S) of Lemma 6.3.1: approximate diameter st, approximate diameter s't' of the projection
 // onto the plane orthogonal to st, third axis orthogonal to both. O(n), volume <= 7 optimum.
 // `scratch` only lends its buffer for the projection (scratch.plane).

@@ -158,13 +158,13 @@ Mat3 pca_vertex_axes(std::span<const Vec3> points, const Vec3& origin) {
   return principal_axes(c * inv - mean * mean.transpose());
 }
 
-Mat3 pca_triangle_axes(std::span<const Vec3> corners, const Vec3& origin) {
+AreaMoments area_moments(std::span<const Vec3> corners, const Vec3& origin) {
   // For a triangle (p, q, r) of area A and centroid m, the integral over its area of x x^T is
   //   A/12 * (9 m m^T + p p^T + q q^T + r r^T)   (Gottschalk's thesis, eq. 3.5 ff.).
-  // Covariance = (sum of those) / A_total - M M^T with M the area-weighted centroid.
   // One pass, relative to `origin` (a point near the set, see pca_vertex_axes).
+  AreaMoments m;
+  m.origin = origin;
   const std::size_t n = corners.size() / 3;
-  if (n == 0) return pca_vertex_axes(corners, origin);
   double total_area = 0.0;
   Vec3 moment = Vec3::Zero();
   double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
@@ -186,11 +186,53 @@ Mat3 pca_triangle_axes(std::span<const Vec3> corners, const Vec3& origin) {
     yz += w * (s.y() * s.z() + p.y() * p.z() + q.y() * q.z() + r.y() * r.z());
     zz += w * (s.z() * s.z() + p.z() * p.z() + q.z() * q.z() + r.z() * r.z());
   }
-  if (!(total_area > 0.0)) return pca_vertex_axes(corners, origin);
-  const Vec3 mean = moment / (3.0 * total_area);
+  m.area = total_area;
+  m.first = moment;
+  m.xx = xx, m.xy = xy, m.xz = xz, m.yy = yy, m.yz = yz, m.zz = zz;
+  return m;
+}
+
+Mat3 AreaMoments::covariance() const {
+  // Covariance = (sum of the triangles' integrals) / A_total - M M^T with M the area-weighted
+  // centroid (relative to the origin).
+  const Vec3 mean = first / (3.0 * area);
   Mat3 c;
   c << xx, xy, xz, xy, yy, yz, xz, yz, zz;
-  return principal_axes(c / total_area - mean * mean.transpose());
+  return c / area - mean * mean.transpose();
+}
+
+AreaMoments AreaMoments::moved_to(const Vec3& o) const {
+  // Every point x becomes x + e: s -> s + 3e, p -> p + e, ..., so with w = A / 12 summed,
+  // second += (e first^T + first e^T) / 3 + area e e^T and first += 3 area e.
+  const Vec3 e = origin - o;
+  AreaMoments m = *this;
+  m.origin = o;
+  m.first = first + 3.0 * area * e;
+  const Vec3 f = first / 3.0;
+  m.xx += 2 * e.x() * f.x() + area * e.x() * e.x();
+  m.xy += e.x() * f.y() + f.x() * e.y() + area * e.x() * e.y();
+  m.xz += e.x() * f.z() + f.x() * e.z() + area * e.x() * e.z();
+  m.yy += 2 * e.y() * f.y() + area * e.y() * e.y();
+  m.yz += e.y() * f.z() + f.y() * e.z() + area * e.y() * e.z();
+  m.zz += 2 * e.z() * f.z() + area * e.z() * e.z();
+  return m;
+}
+
+AreaMoments AreaMoments::without(const AreaMoments& part, const Vec3& o) const {
+  AreaMoments m = moved_to(o);
+  const AreaMoments p = part.moved_to(o);
+  m.area -= p.area;
+  m.first -= p.first;
+  m.xx -= p.xx, m.xy -= p.xy, m.xz -= p.xz, m.yy -= p.yy, m.yz -= p.yz, m.zz -= p.zz;
+  return m;
+}
+
+Mat3 pca_triangle_axes(std::span<const Vec3> corners, const Vec3& origin) {
+  // Covariance = (sum of those) / A_total - M M^T with M the area-weighted centroid.
+  if (corners.size() / 3 == 0) return pca_vertex_axes(corners, origin);
+  const AreaMoments m = area_moments(corners, origin);
+  if (!(m.area > 0.0)) return pca_vertex_axes(corners, origin);
+  return principal_axes(m.covariance());
 }
 
 }  // namespace tightbvh::fit_detail

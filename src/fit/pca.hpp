@@ -29,4 +29,27 @@ namespace tightbvh::fit_detail {
 // vertex covariance is used instead.
 [[nodiscard]] Mat3 pca_triangle_axes(std::span<const Vec3> corners, const Vec3& origin);
 
+// The sums behind pca_triangle_axes, relative to `origin`, over the triangles of positive area:
+// area = sum(A), first = sum(A s), second = sum(A / 12 (s s^T + p p^T + q q^T + r r^T)) with
+// s = p + q + r (Gottschalk's thesis, eq. 3.5 ff.). They are additive, so a tree node's can be
+// derived from its parent's and one child's instead of from its triangles (the builder, for the
+// fitters whose first step is the PCA box).
+struct AreaMoments {
+  Vec3 origin = Vec3::Zero();
+  double area = 0.0;
+  Vec3 first = Vec3::Zero();
+  double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+
+  // The area-weighted covariance (area > 0), as pca_triangle_axes computes it from these sums.
+  [[nodiscard]] Mat3 covariance() const;
+  // The same sums relative to another origin (x -> x + origin - o for every point x).
+  [[nodiscard]] AreaMoments moved_to(const Vec3& o) const;
+  // The sums of the triangles of `this` that are not in `part` (a subset), relative to `o`.
+  [[nodiscard]] AreaMoments without(const AreaMoments& part, const Vec3& o) const;
+};
+
+// The sums of the triangles given by their corners (three per triangle), relative to `origin`:
+// exactly the ones pca_triangle_axes(corners, origin) accumulates, in the same order.
+[[nodiscard]] AreaMoments area_moments(std::span<const Vec3> corners, const Vec3& origin);
+
 }  // namespace tightbvh::fit_detail

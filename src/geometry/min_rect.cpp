@@ -1,6 +1,7 @@
 // Rotating calipers (Toussaint 1983) for the minimum-area rectangle of a convex polygon.
 #include "tightbvh/min_rect.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -75,6 +76,34 @@ Rect2 min_area_rect(std::span<const Vec2> polygon) {
   // The final extents are recomputed over all vertices, so the rectangle always contains the
   // polygon even if a caliper stopped early on nearly-collinear vertices.
   return rect_along(polygon, len > 0.0 ? Vec2(e / len) : Vec2::UnitX());
+}
+
+Rect2 min_area_rect_of_points(std::span<const Vec2> points) {
+  const std::size_t n = points.size();
+  if (n == 0) return {};
+  // As min_area_rect: per direction e (unnormalised), the spans along e and its perpendicular over
+  // |e|^2; the first direction of the smallest area wins.
+  double best_area = std::numeric_limits<double>::infinity();
+  Vec2 best = Vec2::Zero();
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 1; j < n; ++j) {
+      const Vec2 e = points[j] - points[i];
+      const double len2 = e.squaredNorm();
+      if (!(len2 > 0.0)) continue;
+      const Vec2 v(-e.y(), e.x());
+      // The spans of the points' own projections (the callers' points are near their origin).
+      double u_lo = e.dot(points[0]), u_hi = u_lo, v_lo = v.dot(points[0]), v_hi = v_lo;
+      for (std::size_t k = 1; k < n; ++k) {
+        const double a = e.dot(points[k]), b = v.dot(points[k]);
+        u_lo = std::min(u_lo, a), u_hi = std::max(u_hi, a);
+        v_lo = std::min(v_lo, b), v_hi = std::max(v_hi, b);
+      }
+      const double area = (u_hi - u_lo) * (v_hi - v_lo) / len2;
+      if (area < best_area) best_area = area, best = e;
+    }
+  const double len = best.norm();
+  // The extents over all points along the chosen axis, as min_area_rect measures them.
+  return rect_along(points, len > 0.0 ? Vec2(best / len) : Vec2::UnitX());
 }
 
 }  // namespace tightbvh

@@ -15,6 +15,7 @@
 #include "tightbvh/build.hpp"
 #include "tightbvh/fit.hpp"
 #include "tightbvh/obb.hpp"
+#include "../fit/fitters.hpp"
 #include "../fit/frame.hpp"
 
 namespace tightbvh::detail {
@@ -99,10 +100,12 @@ inline void column_extremes(std::span<const Vec3> points, std::vector<Vec3>& out
 // The box of a node given by its triangles' corners (three per triangle), in a mesh of
 // `mesh_triangles`. `vertices()` returns the node's distinct vertices (or an empty span when the
 // caller has none): the hull-based fitters work on them, pca on the corners; it is only called
-// when needed.
+// when needed. `pca_axes`, when given, are the node's PCA axes (from moments the builder derives
+// along the tree), used by the methods that start from the PCA box instead of a pass of their own.
 template <class Vertices>
 [[nodiscard]] Obb fit_node(std::span<const Vec3> corners, std::size_t mesh_triangles, const Fitter& fitter,
-                           const FitOptions& options, FitWorkspace& workspace, Vertices&& vertices) {
+                           const FitOptions& options, FitWorkspace& workspace, Vertices&& vertices,
+                           const Mat3* pca_axes = nullptr) {
   const std::size_t triangles = corners.size() / 3;
   const FitMethod method = method_for(fitter, triangles, mesh_triangles);
   if (triangles == 1 && method != FitMethod::aabb) {
@@ -125,6 +128,8 @@ template <class Vertices>
       column_extremes(distinct, extremes);
       const Obb oriented = fit_points(extremes, fit, workspace);
       box = fit_detail::box_with_axes(distinct, oriented.axes, oriented.center);  // contains every vertex
+    } else if (pca_axes != nullptr && !distinct.empty() && fit_detail::uses_pca_axes(method)) {
+      box = fit_detail::fit_triangles_with_pca_axes(corners, distinct, fit, workspace, *pca_axes);
     } else {
       box = distinct.empty() ? fit_triangles(corners, fit, workspace) : fit_triangles(corners, distinct, fit, workspace);
     }

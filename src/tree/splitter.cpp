@@ -41,9 +41,11 @@ using Index = std::uint32_t;
   return corners[3 * p] + corners[3 * p + 1] + corners[3 * p + 2];
 }
 
-void swap_positions(std::span<Index> order, std::span<Vec3> corners, std::size_t a, std::size_t b) {
+void swap_positions(std::span<Index> order, std::span<Vec3> corners, std::span<VertexIds> ids, std::size_t a,
+                    std::size_t b) {
   std::swap(order[a], order[b]);
   std::swap_ranges(corners.begin() + 3 * a, corners.begin() + 3 * a + 3, corners.begin() + 3 * b);
+  if (!ids.empty()) std::swap(ids[a], ids[b]);
 }
 
 // Box axes from the longest to the shortest (ties: lower index first).
@@ -59,18 +61,21 @@ void swap_positions(std::span<Index> order, std::span<Vec3> corners, std::size_t
 
 // Applies a new order given as old positions: position i receives old position from[i].
 template <class From>
-void permute(std::span<Index> order, std::span<Vec3> corners, std::size_t n, From from, SplitScratch& scratch) {
+void permute(std::span<Index> order, std::span<Vec3> corners, std::span<VertexIds> ids, std::size_t n, From from,
+             SplitScratch& scratch) {
   scratch.order.assign(order.begin(), order.end());
   scratch.corners.assign(corners.begin(), corners.end());
+  scratch.ids.assign(ids.begin(), ids.end());
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t p = from(i);
     order[i] = scratch.order[p];
     std::copy_n(scratch.corners.begin() + 3 * p, 3, corners.begin() + 3 * i);
+    if (!ids.empty()) ids[i] = scratch.ids[p];
   }
 }
 
 // Half the triangles on each side along `dir` (the lower half goes left).
-std::size_t split_by_count(std::span<Index> order, std::span<Vec3> corners, const Vec3& dir, SplitScratch& scratch) {
+std::size_t split_by_count(std::span<Index> order, std::span<Vec3> corners, std::span<VertexIds> ids, const Vec3& dir, SplitScratch& scratch) {
   const std::size_t n = order.size();
   auto& keys = scratch.keys;
   keys.clear();
@@ -81,14 +86,14 @@ std::size_t split_by_count(std::span<Index> order, std::span<Vec3> corners, cons
                    [](const SplitKey& a, const SplitKey& b) {
                      return a.key < b.key || (a.key == b.key && a.triangle < b.triangle);
                    });
-  permute(order, corners, n, [&](std::size_t i) { return keys[i].position; }, scratch);
+  permute(order, corners, ids, n, [&](std::size_t i) { return keys[i].position; }, scratch);
   return mid;
 }
 
 // RAPID (Gottschalk, Lin & Manocha 1996, Section 4): the plane orthogonal to the longest box
 // axis through the mean of the projected centroids; if a side is empty the next axis; then by
 // count.
-std::size_t split_rapid(std::span<Index> order, std::span<Vec3> corners, const Obb& box, SplitScratch& scratch) {
+std::size_t split_rapid(std::span<Index> order, std::span<Vec3> corners, std::span<VertexIds> ids, const Obb& box, SplitScratch& scratch) {
   const std::size_t n = order.size();
   const auto axes = axes_by_length(box);
   auto& keys = scratch.projections;
@@ -105,13 +110,13 @@ std::size_t split_rapid(std::span<Index> order, std::span<Vec3> corners, const O
       while (lo < hi && !(keys[hi - 1] < mean)) --hi;
       if (lo + 1 >= hi) break;
       std::swap(keys[lo], keys[hi - 1]);
-      swap_positions(order, corners, lo, hi - 1);
+      swap_positions(order, corners, ids, lo, hi - 1);
       ++lo;
       --hi;
     }
     if (lo != 0 && lo != n) return lo;
   }
-  return split_by_count(order, corners, box.axes.col(axes[0]), scratch);
+  return split_by_count(order, corners, ids, box.axes.col(axes[0]), scratch);
 }
 
 [[nodiscard]] double half_area(const Aabb& b) {
@@ -124,7 +129,7 @@ std::size_t split_rapid(std::span<Index> order, std::span<Vec3> corners, const O
 // refitted, their bounds in the parent's frame are a cheap proxy of their size. Cost of a
 // candidate: N_left * area(left) + N_right * area(right) (the expected number of overlap tests
 // below the node when the other tree's nodes are small relative to these).
-std::size_t split_binned(std::span<Index> order, std::span<Vec3> corners, const Obb& box, SplitScratch& scratch) {
+std::size_t split_binned(std::span<Index> order, std::span<Vec3> corners, std::span<VertexIds> ids, const Obb& box, SplitScratch& scratch) {
   constexpr int kBins = 32;
   const std::size_t n = order.size();
   scratch.bounds.resize(n);
@@ -178,7 +183,7 @@ std::size_t split_binned(std::span<Index> order, std::span<Vec3> corners, const 
       if (cost < best_cost) best_cost = cost, best_axis = axis, best_bin = b;
     }
   }
-  if (best_axis < 0) return split_by_count(order, corners, box.axes.col(axes_by_length(box)[0]), scratch);
+  if (best_axis < 0) return split_by_count(order, corners, ids, box.axes.col(axes_by_length(box)[0]), scratch);
 
   // Stable two-way partition by bin.
   auto& from = scratch.keys;
@@ -188,23 +193,23 @@ std::size_t split_binned(std::span<Index> order, std::span<Vec3> corners, const 
   const std::size_t mid = from.size();
   for (std::size_t p = 0; p < n; ++p)
     if (bin_of(p, best_axis) > best_bin) from.push_back({0.0, 0, static_cast<Index>(p)});
-  permute(order, corners, n, [&](std::size_t i) { return from[i].position; }, scratch);
+  permute(order, corners, ids, n, [&](std::size_t i) { return from[i].position; }, scratch);
   return mid;
 }
 
 }  // namespace
 
-std::size_t split(SplitMethod method, std::span<Index> order, std::span<Vec3> corners, const Obb& box,
-                  SplitScratch& scratch) {
+std::size_t split(SplitMethod method, std::span<Index> order, std::span<Vec3> corners, std::span<VertexIds> ids,
+                  const Obb& box, SplitScratch& scratch) {
   switch (method) {
     case SplitMethod::rapid:
-      return split_rapid(order, corners, box, scratch);
+      return split_rapid(order, corners, ids, box, scratch);
     case SplitMethod::median:
-      return split_by_count(order, corners, box.axes.col(axes_by_length(box)[0]), scratch);
+      return split_by_count(order, corners, ids, box.axes.col(axes_by_length(box)[0]), scratch);
     case SplitMethod::binned:
-      return split_binned(order, corners, box, scratch);
+      return split_binned(order, corners, ids, box, scratch);
   }
-  return split_by_count(order, corners, box.axes.col(0), scratch);
+  return split_by_count(order, corners, ids, box.axes.col(0), scratch);
 }
 
 }  // namespace detail

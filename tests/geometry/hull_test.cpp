@@ -631,6 +631,33 @@ TEST(MinRect, BruteForceOverEdgeDirections) {
   }
 }
 
+// min_area_rect_of_points (normal-bopt's rectangle for <= 8 projected points, no hull) against
+// the hull and rotating calipers: the same area up to rounding, on random sets, sets with repeated
+// points, collinear sets and a single point; every point inside.
+TEST(MinRect, OfPointsMatchesHullAndCalipers) {
+  std::mt19937_64 rng(23);
+  std::normal_distribution<double> normal;
+  for (int trial = 0; trial < 400; ++trial) {
+    const std::size_t n = 1 + trial % kMinAreaRectOfPointsMax;
+    std::vector<Vec2> pts(n);
+    for (auto& p : pts) p = Vec2(normal(rng), 0.3 * normal(rng));
+    if (trial % 5 == 1 && n > 2) pts[n - 1] = pts[0];                                           // repeated
+    if (trial % 5 == 2) for (auto& p : pts) p = Vec2(p.x(), 2.0 * p.x() + 1.0);                // collinear
+    if (trial % 5 == 3) for (auto& p : pts) p = pts[0];                                         // one point
+    const Rect2 rect = min_area_rect_of_points(pts);
+    std::vector<Vec2> hull = pts;
+    const std::size_t m = convex_hull_2d(hull);
+    const Rect2 want = min_area_rect(std::span<const Vec2>(hull.data(), m));
+    EXPECT_NEAR(rect.area(), want.area(), 1e-12 * (1.0 + want.area())) << "trial " << trial;
+    EXPECT_NEAR(rect.axis.norm(), 1.0, 1e-15);
+    for (const Vec2& p : pts) {
+      const Vec2 q(rect.axis.dot(p), -rect.axis.y() * p.x() + rect.axis.x() * p.y());
+      EXPECT_TRUE(q.x() >= rect.min.x() && q.x() <= rect.max.x()) << "trial " << trial;
+      EXPECT_TRUE(q.y() >= rect.min.y() && q.y() <= rect.max.y()) << "trial " << trial;
+    }
+  }
+}
+
 // Every fitter gives a valid box containing the points (fit_points), never an error.
 void expect_every_fitter_contains(std::span<const Vec3> points, const std::string& what) {
   for (const char* name : {"aabb", "pca", "pca-vertex", "diameter", "approx", "approx-snap", "exact"}) {

@@ -79,7 +79,7 @@ class Planner {
     if (count == 1) return;
     const auto order = std::span(plan_.order).subspan(first, count);
     const auto corners = std::span(corners_).subspan(3 * std::size_t{first - leaf_first_}, 3 * std::size_t{count});
-    const auto half = std::uint32_t(detail::split(SplitMethod::median, order, corners, box, scratch_));
+    const auto half = std::uint32_t(detail::split(SplitMethod::median, order, corners, {}, box, scratch_));
     plan_.nodes[self].left_count = half;
     const Obb left = fit_triangles(corners.first(3 * std::size_t{half}), fit_);
     const Obb right = fit_triangles(corners.subspan(3 * std::size_t{half}), fit_);

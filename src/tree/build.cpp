@@ -125,9 +125,23 @@ class Builder {
     Mat3 axes;
     const bool have_axes = moments.valid && moments.sums.area > 0.0;
     if (have_axes) axes = fit_detail::principal_axes(moments.sums.covariance());
-    std::span<const Vec3> points;
-    const Obb fitted = fit(begin, end, scratch, points, have_axes ? &axes : nullptr);
-    node.box = compact_box(fitted, points);
+    Obb fitted;
+    if (const auto* m = std::get_if<FitMethod>(&options_.fitter);
+        m && (*m == FitMethod::pca || *m == FitMethod::pca_vertex) && n >= 2) {
+      // pca and pca-vertex: the axes, then the float box in one pass over the corners
+      // (compact_box_with_axes), where fitting in double and rounding outward took two. The split
+      // then uses the float box, whose axes are the fitted ones to float rounding. The mesh was
+      // checked for NaN/Inf before the build.
+      const auto corners = node_corners(begin, end);
+      const Mat3 pca = *m == FitMethod::pca ? fit_detail::pca_triangle_axes(corners, corners.front())
+                                            : fit_detail::pca_vertex_axes(corners, corners.front());
+      node.box = compact_box_with_axes(corners, pca);
+      fitted = node.box.obb();
+    } else {
+      std::span<const Vec3> points;
+      fitted = fit(begin, end, scratch, points, have_axes ? &axes : nullptr);
+      node.box = compact_box(fitted, points);
+    }
     if (n <= options_.leaf_size) {
       node.first = begin;
       node.count = n;

@@ -227,6 +227,24 @@ AreaMoments AreaMoments::without(const AreaMoments& part, const Vec3& o) const {
   return m;
 }
 
+AreaMoments AreaMoments::plus(const AreaMoments& other) const {
+  // other.moved_to(origin) added in place: refit does this at every node, so without the copy
+  // and with a multiplication for the division by 3.
+  const Vec3 e = other.origin - origin;
+  const Vec3 f = other.first * (1.0 / 3.0);
+  const double a = other.area;
+  AreaMoments m = *this;
+  m.area += a;
+  m.first += other.first + 3.0 * a * e;
+  m.xx += other.xx + 2 * e.x() * f.x() + a * e.x() * e.x();
+  m.xy += other.xy + e.x() * f.y() + f.x() * e.y() + a * e.x() * e.y();
+  m.xz += other.xz + e.x() * f.z() + f.x() * e.z() + a * e.x() * e.z();
+  m.yy += other.yy + 2 * e.y() * f.y() + a * e.y() * e.y();
+  m.yz += other.yz + e.y() * f.z() + f.y() * e.z() + a * e.y() * e.z();
+  m.zz += other.zz + 2 * e.z() * f.z() + a * e.z() * e.z();
+  return m;
+}
+
 Mat3 pca_triangle_axes(std::span<const Vec3> corners, const Vec3& origin) {
   // Covariance = (sum of those) / A_total - M M^T with M the area-weighted centroid.
   if (corners.size() / 3 == 0) return pca_vertex_axes(corners, origin);

@@ -33,7 +33,7 @@ namespace tightbvh::fit_detail {
 // area = sum(A), first = sum(A s), second = sum(A / 12 (s s^T + p p^T + q q^T + r r^T)) with
 // s = p + q + r (Gottschalk's thesis, eq. 3.5 ff.). They are additive, so a tree node's can be
 // derived from its parent's and one child's instead of from its triangles (the builder, for the
-// fitters whose first step is the PCA box).
+// fitters whose first step is the PCA box), or summed from its children's (refit).
 struct AreaMoments {
   Vec3 origin = Vec3::Zero();
   double area = 0.0;
@@ -46,6 +46,9 @@ struct AreaMoments {
   [[nodiscard]] AreaMoments moved_to(const Vec3& o) const;
   // The sums of the triangles of `this` that are not in `part` (a subset), relative to `o`.
   [[nodiscard]] AreaMoments without(const AreaMoments& part, const Vec3& o) const;
+  // The sums of the triangles of `this` and of `other` (disjoint sets), relative to this origin
+  // (refit: a node's from its children's).
+  [[nodiscard]] AreaMoments plus(const AreaMoments& other) const;
 };
 
 // The sums of the triangles given by their corners (three per triangle), relative to `origin`:

@@ -203,58 +203,41 @@ struct Sym {
   }
 };
 
-// pca's sums (Gottschalk's continuous covariance), relative to `origin`.
+// pca's sums (Gottschalk's continuous covariance): fit_detail::AreaMoments, the builder's.
 struct AreaMoments {
-  Vec3 origin = Vec3::Zero();
-  double area = 0.0;
-  Vec3 first = Vec3::Zero();
-  Sym second;
+  fit_detail::AreaMoments sums;
 
-  void add_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
-    const Vec3 p = a - origin, q = b - origin, r = c - origin;
-    const double triangle_area = 0.5 * (q - p).cross(r - p).norm();
-    if (!(triangle_area > 0.0)) return;  // as pca_triangle_axes
-    const Vec3 s = p + q + r;
-    area += triangle_area;
-    first += triangle_area * s;
-    const double w = triangle_area / 12.0;
-    second.add_outer(s, w), second.add_outer(p, w), second.add_outer(q, w), second.add_outer(r, w);
-  }
-
-  // Adds `other`'s sums, moved from other.origin to this origin (x -> x + e).
-  void add(const AreaMoments& other) {
-    const Vec3 e = other.origin - origin;
-    second.add(other.second);
-    second.add_symmetric(e, other.first, 1.0 / 3.0);
-    second.add_outer(e, other.area);
-    first += other.first + 3.0 * other.area * e;
-    area += other.area;
-  }
-
-  [[nodiscard]] Mat3 covariance() const {
-    const Vec3 mean = first / (3.0 * area);
-    return second.matrix() / area - mean * mean.transpose();
-  }
+  [[nodiscard]] const Vec3& origin() const { return sums.origin; }
+  static AreaMoments of(std::span<const Vec3> corners) { return {fit_detail::area_moments(corners, corners.front())}; }
+  // The left child's origin is the parent's (both start at the range's first corner).
+  void add(const AreaMoments& other) { sums = sums.plus(other.sums); }
+  [[nodiscard]] Mat3 covariance() const { return sums.covariance(); }
   // Zero total area: pca_triangle_axes falls back to the corners' covariance.
-  [[nodiscard]] bool degenerate() const { return !(area > 0.0); }
+  [[nodiscard]] bool degenerate() const { return !(sums.area > 0.0); }
 };
 
 // pca-vertex's sums: the corners' count, sum and sum of outer products, relative to `origin`.
 struct CornerMoments {
-  Vec3 origin = Vec3::Zero();
+  Vec3 origin_ = Vec3::Zero();
   double corners = 0.0;
   Vec3 sum = Vec3::Zero();
   Sym second;
 
-  void add_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
-    const Vec3 p = a - origin, q = b - origin, r = c - origin;
-    corners += 3.0;
-    sum += p + q + r;
-    second.add_outer(p, 1.0), second.add_outer(q, 1.0), second.add_outer(r, 1.0);
+  [[nodiscard]] const Vec3& origin() const { return origin_; }
+  static CornerMoments of(std::span<const Vec3> points) {
+    CornerMoments m;
+    m.origin_ = points.front();
+    for (const Vec3& x : points) {
+      const Vec3 p = x - m.origin_;
+      m.corners += 1.0;
+      m.sum += p;
+      m.second.add_outer(p, 1.0);
+    }
+    return m;
   }
 
   void add(const CornerMoments& other) {
-    const Vec3 e = other.origin - origin;
+    const Vec3 e = other.origin_ - origin_;
     second.add(other.second);
     second.add_symmetric(e, other.sum, 1.0);
     second.add_outer(e, other.corners);
@@ -282,10 +265,7 @@ class PcaKernel {
   explicit PcaKernel(std::span<const Vec3> corners) : corners_(corners) {}
 
   Value leaf(Node& node, Range range, Scratch& /*scratch*/) const {
-    Moments m;
-    m.origin = corners_[3 * std::size_t{range.begin}];
-    for (std::size_t p = range.begin; p < range.end; ++p)
-      m.add_triangle(corners_[3 * p], corners_[3 * p + 1], corners_[3 * p + 2]);
+    const Moments m = Moments::of(node_corners(range));
     const std::optional<Obb> triangle = range.size() == 1 ? single(range.begin) : std::nullopt;
     node.box = triangle ? compact_box(*triangle, node_corners(range)) : box(m, range, node.box);
     return m;
@@ -313,7 +293,7 @@ class PcaKernel {
   [[nodiscard]] CompactBox box(const Moments& m, Range range, const CompactBox& previous) const {
     const auto corners = node_corners(range);
     // Zero total area (rare): computed from the node's corners rather than carried up the tree.
-    const Mat3 axes = m.degenerate() ? fit_detail::pca_vertex_axes(corners, m.origin)
+    const Mat3 axes = m.degenerate() ? fit_detail::pca_vertex_axes(corners, m.origin())
                                      : fit_detail::principal_axes_from(m.covariance(), previous.axes_d());
     return compact_box_with_axes(corners, axes);
   }

@@ -252,7 +252,7 @@ struct CornerMoments {
   [[nodiscard]] static bool degenerate() { return false; }
 };
 
-struct PcaScratch {};
+struct NoScratch {};  // the pca and aabb kernels need none
 
 // pca (AreaMoments) / pca-vertex (CornerMoments): moments bottom up, extents from the node's own
 // corners.
@@ -260,7 +260,7 @@ template <class Moments>
 class PcaKernel {
  public:
   using Value = Moments;
-  using Scratch = PcaScratch;
+  using Scratch = NoScratch;
 
   explicit PcaKernel(std::span<const Vec3> corners) : corners_(corners) {}
 
@@ -308,7 +308,7 @@ class PcaKernel {
 class AabbKernel {
  public:
   using Value = Aabb;
-  using Scratch = PcaScratch;
+  using Scratch = NoScratch;
 
   explicit AabbKernel(std::span<const Vec3> corners) : corners_(corners) {}
 

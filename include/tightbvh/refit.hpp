@@ -10,9 +10,12 @@ namespace tightbvh {
 
 struct RefitOptions {
   // `pca` (the default) and `pca-vertex` take a fast path: the moments of a node are the sums of
-  // its children's, so only the extents pass touches all of a node's corners; the boxes are the
-  // ones fit_triangles gives (up to rounding). Every other fitter (and `auto`) fits each node from
-  // its corners as build() does. Why pca: README, "Refit (deforming meshes)".
+  // its children's, the axes come from Jacobi sweeps started at the node's previous axes, and only
+  // the one extents pass touches all of a node's corners; the boxes are the ones fit_triangles
+  // gives (up to rounding; with tied eigenvalues the previous frame's directions are kept).
+  // `aabb` merges the children's bounds (the builder's boxes bit for bit). Every other fitter
+  // (and `auto`) fits each node from its corners as build() does. Why pca: README, "Refit
+  // (deforming meshes)".
   Fitter fitter = FitMethod::pca;
   FitOptions fit;        // grid / epsilon / improve of the hull-based fitters
   unsigned threads = 0;  // 0: std::thread::hardware_concurrency(); the same tree for any count
@@ -20,7 +23,7 @@ struct RefitOptions {
 
 // Refits every box of `tree` to `mesh`, which must have the triangles the tree was built on (same
 // count, same index triples; only vertices moved). Single-triangle nodes get the builder's
-// closed-form triangle box. Throws InputError when the mesh is invalid (check_mesh: NaN/Inf vertex,
+// closed-form triangle box. Throws InputError when the mesh is invalid (require_valid_mesh: NaN/Inf vertex,
 // index out of range), when its triangle count differs from the tree's, or when the tree's
 // structure is broken (child or leaf range out of range, a node reached twice, a triangle listed
 // twice); `tree` is left unchanged then.

@@ -11,7 +11,6 @@
 #include <variant>
 #include <vector>
 
-#include "../fit/frame.hpp"
 #include "../fit/pca.hpp"
 #include "parallel.hpp"
 #include "node_fit.hpp"

@@ -28,7 +28,7 @@ namespace tightbvh {
 // patches, and boxes flush with them cull better in queries than their volume says). The defaults
 // are measured (README, "Tree builder").
 struct AutoFit {
-  std::uint32_t tight_min_triangles = 2048;
+  std::uint32_t tight_min_triangles = 1024;
   FitMethod tight = FitMethod::approx;
   std::uint32_t medium_min_triangles = 64;
   FitMethod medium = FitMethod::approx_kernel;
@@ -45,6 +45,17 @@ struct AutoFit {
   // the same fraction), so on large meshes fixed thresholds would spend the tight search on
   // nodes that hold little volume (README, "The default fitter").
   std::uint32_t scale_above = 131072;
+  // Below the root, start each node's search from its parent's box: a child is a part of its
+  // parent, cut across the parent's box, and the parent's axes are most often close to its own
+  // best ones. `tight` (approx) nodes then run approx's axis improvement and tilt search from the
+  // best Bopt box along the parent's three axes instead of scanning the direction grid first (the
+  // root keeps the scan, and with it Barequet & Har-Peled's guarantee), `medium` (approx-kernel)
+  // nodes the kernel's axis improvement from those three Bopt boxes instead of its grid scan, and
+  // `cheap` (normal-bopt) nodes keep the box along the parent's axes where the Bopt box is larger,
+  // instead of the PCA box (so they need no moments). Measured: 13-16% fewer instructions, and with
+  // tight_min_triangles 1024 instead of 2048 a larger share of approx's gain (README, "The default
+  // fitter"). false: each node searches on its own, as before 2026-11-26.
+  bool search_from_parent = true;
   friend bool operator==(const AutoFit&, const AutoFit&) = default;
 };
 

@@ -8,6 +8,7 @@
 
 #include "fitters.hpp"
 #include "frame.hpp"
+#include "kernel_extremes.hpp"
 #include "pca.hpp"
 #include "tightbvh/hull.hpp"
 #include "tightbvh/mesh.hpp"
@@ -92,7 +93,8 @@ bool distinct_small(std::span<const Vec3> points, std::size_t limit, std::vector
 // pca / pca-vertex: one pass for the moments, one for the extents, relative to the first point
 // (near the set, so far-away sets keep their precision). The finiteness check rides on the
 // extents pass: only when something is not finite is the input scanned for the bad point.
-Obb fit_checked(std::span<const Vec3> points, const FitOptions& options, FitWorkspace& workspace);
+Obb fit_checked(std::span<const Vec3> points, const FitOptions& options, FitWorkspace& workspace,
+                std::span<const Vec3> seeds = {});
 
 // `given`: the PCA axes when the caller already has them (a tree node's, from its moments).
 Obb fit_pca(std::span<const Vec3> points, std::span<const Vec3> triangle_corners, const Mat3* given = nullptr) {
@@ -127,26 +129,26 @@ constexpr int kKernelGrid = 2;
 // kernel's points themselves.
 constexpr std::size_t kKernelLargeSet = 256;
 
-// The kernel's points (distinct, sorted) into `out`.
-void extreme_point_kernel(std::span<const Vec3> points, const Obb& frame, std::vector<Vec3>& out) {
-  const auto& grid = fit_detail::primitive_grid(kKernelGrid);
-  constexpr std::size_t kMax = 49;
-  const std::size_t count = std::min(grid.size(), kMax);
-  const double largest = frame.half_extents.maxCoeff();
-  const Vec3 scale = frame.half_extents.cwiseMax(1e-9 * largest).cwiseInverse();
-  // The grid vectors of the unit cube mapped back to the set, one array per coordinate (padded
-  // to an even count with zero vectors, whose extremes are never read).
-  constexpr std::size_t kPadded = kMax + 1;
-  alignas(16) std::array<double, kPadded> dx{}, dy{}, dz{};
-  for (std::size_t i = 0; i < count; ++i) {
-    const Vec3 d = frame.axes * Vec3(grid[i][0] * scale.x(), grid[i][1] * scale.y(), grid[i][2] * scale.z());
-    dx[i] = d.x(), dy[i] = d.y(), dz[i] = d.z();
-  }
-  // The extreme values and the points reaching them (indices as doubles: exact below 2^53, and
-  // one select serves both). Strict comparisons keep the first point that reaches an extreme.
-  alignas(16) std::array<double, kPadded> lo, hi, at_lo{}, at_hi{};
-  lo.fill(std::numeric_limits<double>::infinity());
-  hi.fill(-std::numeric_limits<double>::infinity());
+}  // namespace
+
+namespace fit_detail {
+
+void kernel_extremes_sse2(const double* xyz, std::size_t n, const double (&center_xyz)[3], const KernelDirections& d,
+                          KernelExtremes& out) {
+  constexpr std::size_t kPadded = kKernelLanes;
+  const double* const dx = d.x;
+  const double* const dy = d.y;
+  const double* const dz = d.z;
+  double* const lo = out.lo;
+  double* const hi = out.hi;
+  double* const at_lo = out.at_lo;
+  double* const at_hi = out.at_hi;
+  const Vec3 center(center_xyz[0], center_xyz[1], center_xyz[2]);
+  const auto point = [&](std::size_t p) { return Vec3(xyz[3 * p], xyz[3 * p + 1], xyz[3 * p + 2]); };
+  std::fill(lo, lo + kPadded, std::numeric_limits<double>::infinity());
+  std::fill(hi, hi + kPadded, -std::numeric_limits<double>::infinity());
+  std::fill(at_lo, at_lo + kPadded, 0.0);
+  std::fill(at_hi, at_hi + kPadded, 0.0);
 #ifdef TIGHTBVH_FIT_SSE2
   // Blocks of kBlock points: the block's extremes by min/max (two directions per instruction, no
   // index to carry), then, only for the directions where the block beats the running extreme
@@ -157,7 +159,7 @@ void extreme_point_kernel(std::span<const Vec3> points, const Obb& frame, std::v
   // scan cost as much as the projections.
   constexpr std::size_t kBlock = 8;
   const auto projection = [&](std::size_t p, std::size_t i) {
-    const Vec3 q = points[p] - frame.center;
+    const Vec3 q = point(p) - center;
     return _mm_add_pd(_mm_add_pd(_mm_mul_pd(_mm_load_pd(&dx[i]), _mm_set1_pd(q.x())), _mm_mul_pd(_mm_load_pd(&dy[i]), _mm_set1_pd(q.y()))),
                       _mm_mul_pd(_mm_load_pd(&dz[i]), _mm_set1_pd(q.z())));
   };
@@ -172,11 +174,11 @@ void extreme_point_kernel(std::span<const Vec3> points, const Obb& frame, std::v
     return p;
   };
   __m128d qx[kBlock], qy[kBlock], qz[kBlock];  // the block's points relative to the center, broadcast
-  for (std::size_t b = 0; b < points.size(); b += kBlock) {
-    const std::size_t b_end = std::min(points.size(), b + kBlock);
+  for (std::size_t b = 0; b < n; b += kBlock) {
+    const std::size_t b_end = std::min(n, b + kBlock);
     const std::size_t count = b_end - b;
     for (std::size_t k = 0; k < count; ++k) {
-      const Vec3 q = points[b + k] - frame.center;
+      const Vec3 q = point(b + k) - center;
       qx[k] = _mm_set1_pd(q.x()), qy[k] = _mm_set1_pd(q.y()), qz[k] = _mm_set1_pd(q.z());
     }
     // Direction pair by direction pair, so that the pair and its block extremes stay in registers.
@@ -208,8 +210,8 @@ void extreme_point_kernel(std::span<const Vec3> points, const Obb& frame, std::v
     }
   }
 #else
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    const Vec3 q = points[p] - frame.center;
+  for (std::size_t p = 0; p < n; ++p) {
+    const Vec3 q = point(p) - center;
     const double index = static_cast<double>(p);
     for (std::size_t i = 0; i < kPadded; ++i) {
       const double d = dx[i] * q.x() + dy[i] * q.y() + dz[i] * q.z();
@@ -218,6 +220,39 @@ void extreme_point_kernel(std::span<const Vec3> points, const Obb& frame, std::v
     }
   }
 #endif
+}
+
+}  // namespace fit_detail
+
+namespace {
+
+// The kernel's points (distinct, sorted) into `out`.
+void extreme_point_kernel(std::span<const Vec3> points, const Obb& frame, std::vector<Vec3>& out) {
+  const auto& grid = fit_detail::primitive_grid(kKernelGrid);
+  constexpr std::size_t kMax = 49;
+  const std::size_t count = std::min(grid.size(), kMax);
+  const double largest = frame.half_extents.maxCoeff();
+  const Vec3 scale = frame.half_extents.cwiseMax(1e-9 * largest).cwiseInverse();
+  // The grid vectors of the unit cube mapped back to the set, one array per coordinate (padded
+  // to whole lanes with zero vectors, whose extremes are never read).
+  constexpr std::size_t kPadded = fit_detail::kKernelLanes;
+  static_assert(kPadded >= kMax && kPadded % 4 == 0);
+  fit_detail::KernelDirections directions{};
+  for (std::size_t i = 0; i < count; ++i) {
+    const Vec3 d = frame.axes * Vec3(grid[i][0] * scale.x(), grid[i][1] * scale.y(), grid[i][2] * scale.z());
+    directions.x[i] = d.x(), directions.y[i] = d.y(), directions.z[i] = d.z();
+  }
+  // The extreme values and the points reaching them (indices as doubles: exact below 2^53, and
+  // one select serves both). Strict comparisons keep the first point that reaches an extreme.
+  fit_detail::KernelExtremes extremes;
+  const double* const at_lo = extremes.at_lo;
+  const double* const at_hi = extremes.at_hi;
+  const double center[3] = {frame.center.x(), frame.center.y(), frame.center.z()};
+  if (fit_detail::has_avx_kernel()) {
+    fit_detail::kernel_extremes_avx(points.front().data(), points.size(), center, directions, extremes);
+  } else {
+    fit_detail::kernel_extremes_sse2(points.front().data(), points.size(), center, directions, extremes);
+  }
   // Many directions share an extreme point: drop repeated indices first (cheap integer sort), so
   // that only the distinct points are sorted (the same result as sorting all 98).
   std::array<std::size_t, 2 * kMax> at;
@@ -233,7 +268,7 @@ void extreme_point_kernel(std::span<const Vec3> points, const Obb& frame, std::v
 }
 
 Obb fit_kernel(std::span<const Vec3> points, std::span<const Vec3> triangle_corners, FitWorkspace& workspace,
-               const Mat3* pca_axes = nullptr) {
+               const Mat3* pca_axes = nullptr, const Mat3* parent_axes = nullptr) {
   using namespace fit_detail;
   FitOptions approx;  // flat or collinear kernels: approx on the whole set handles them
   approx.method = FitMethod::approx;
@@ -245,16 +280,22 @@ Obb fit_kernel(std::span<const Vec3> points, std::span<const Vec3> triangle_corn
   const Vec3 origin = pca.center;
   if (affine_dimension(s.distinct).dimension < 3) return fit_checked(points, approx, workspace);
   AxisBox best;
+  // Below the root of an `auto` tree: Bopt along the parent's axes instead of the grid scan.
+  std::array<Vec3, 3> seed_store;
+  if (parent_axes != nullptr)
+    for (int j = 0; j < 3; ++j) seed_store[j] = parent_axes->col(j);
+  const std::span<const Vec3> seeds(seed_store.data(), parent_axes != nullptr ? 3 : 0);
+  const bool scan = parent_axes == nullptr;
   if (large) {
     convex_hull(s.distinct, s.hull, s.hull_workspace);
     s.geometry.reset(s.hull, origin);
     s.last_hull_vertices = s.hull.vertices.size();
-    best = quick_grid_search(s.geometry, lemma_box(s.geometry, s.bopt), 2, s.bopt);
+    best = quick_grid_search(s.geometry, lemma_box(s.geometry, s.bopt), 2, s.bopt, seeds, scan);
   } else {
     // No hull: Bopt projects every kernel point (a few dozen), cheaper than hulling them first
     // for the ~15 Bopt calls of the quick search.
     s.geometry.reset_points(s.distinct, origin);
-    best = quick_grid_search(s.geometry, lemma_box(s.geometry, s.bopt), 1, s.bopt);
+    best = quick_grid_search(s.geometry, lemma_box(s.geometry, s.bopt), 1, s.bopt, seeds, scan);
   }
   const Obb box = box_with_axes(points, orthonormalize(best.axes), origin);
   return box.volume() < pca.volume() ? box : pca;
@@ -271,11 +312,13 @@ Obb fit_kernel(std::span<const Vec3> points, std::span<const Vec3> triangle_corn
 // there (and approx-kernel from 32 triangles), at no more build cost (README, "Tree builder"),
 // although it gets only 30-45% of approx's volume gain on those nodes: boxes flush with a patch
 // are thin where the other mesh's surface comes close. The PCA box is kept when smaller (a patch
-// that folds over, a normal that sums to nothing).
+// that folds over, a normal that sums to nothing). With `fallback_axes` (auto below the root: the
+// parent box's axes) the box along those is the fallback instead, and no PCA is computed.
 Obb fit_normal_bopt(std::span<const Vec3> points, std::span<const Vec3> triangle_corners, FitWorkspace& workspace,
-                    const Mat3* pca_axes = nullptr) {
+                    const Mat3* pca_axes = nullptr, const Mat3* fallback_axes = nullptr) {
   using namespace fit_detail;
-  const Obb pca = fit_pca(points, triangle_corners, pca_axes);  // throws on empty or NaN/Inf input
+  // Throws on empty or NaN/Inf input.
+  const Obb pca = fit_pca(points, triangle_corners, fallback_axes != nullptr ? fallback_axes : pca_axes);
   Vec3 normal = Vec3::Zero();
   if (triangle_corners.empty()) {
     Eigen::Index thinnest = 0;
@@ -302,7 +345,8 @@ Obb fit_normal_bopt(std::span<const Vec3> points, std::span<const Vec3> triangle
 
 // Every method but pca and pca-vertex (fit_points and fit_triangles send those to fit_pca), on
 // finite points.
-Obb fit_checked(std::span<const Vec3> points, const FitOptions& options, FitWorkspace& workspace) {
+Obb fit_checked(std::span<const Vec3> points, const FitOptions& options, FitWorkspace& workspace,
+                std::span<const Vec3> seeds) {
   using namespace fit_detail;
   auto& s = workspace.scratch();
   s.last_hull_vertices = 0;
@@ -327,7 +371,7 @@ Obb fit_checked(std::span<const Vec3> points, const FitOptions& options, FitWork
       break;
     case FitMethod::approx: {
       const int k = options.epsilon ? grid_for_epsilon(*options.epsilon) : options.grid;
-      axes = grid_search(s.geometry, lemma_box(s.geometry, s.bopt), k, options.improve, s.bopt).axes;
+      axes = grid_search(s.geometry, lemma_box(s.geometry, s.bopt), k, options.improve, s.bopt, seeds, seeds.empty()).axes;
       break;
     }
     case FitMethod::approx_snap:
@@ -354,14 +398,24 @@ bool uses_pca_axes(FitMethod method) {
 }
 
 Obb fit_triangles_with_pca_axes(std::span<const Vec3> corners, std::span<const Vec3> vertices,
-                                const FitOptions& options, FitWorkspace& workspace, const Mat3& pca_axes) {
+                                const FitOptions& options, FitWorkspace& workspace, const Mat3* pca_axes,
+                                const Mat3* parent_axes) {
   if (corners.size() % 3 != 0) throw InputError("fit: triangle corners must come in threes");
   if (corners.empty() != vertices.empty()) throw InputError("fit: corners and vertices must be the same point set");
   switch (options.method) {
     case FitMethod::approx_kernel:
-      return fit_kernel(vertices, corners, workspace, &pca_axes);
+      return fit_kernel(vertices, corners, workspace, pca_axes, parent_axes);
     case FitMethod::normal_bopt:
-      return fit_normal_bopt(vertices, corners, workspace, &pca_axes);
+      return fit_normal_bopt(vertices, corners, workspace, pca_axes, parent_axes);
+    case FitMethod::approx:
+      if (parent_axes != nullptr) {
+        // approx's improvement and tilt search from the best Bopt box along the parent's axes,
+        // without the grid scan (auto below the root).
+        check_finite(vertices);
+        const std::array<Vec3, 3> seeds = {parent_axes->col(0), parent_axes->col(1), parent_axes->col(2)};
+        return fit_checked(vertices, options, workspace, seeds);
+      }
+      return fit_triangles(corners, vertices, options, workspace);
     default:
       return fit_triangles(corners, vertices, options, workspace);
   }

@@ -14,10 +14,13 @@ namespace tightbvh::fit_detail {
 // then hands it the node's PCA axes, from moments it derives along the tree (build.cpp).
 [[nodiscard]] bool uses_pca_axes(FitMethod method);
 // fit_triangles(corners, vertices, options, workspace) with the PCA axes of the triangles
-// (pca_triangle_axes(corners, vertices[0]), or the same up to rounding) given; methods that do
-// not use them ignore them.
+// (pca_triangle_axes(corners, vertices[0]), or the same up to rounding) given, or null (then
+// computed where needed); methods that do not use them ignore them. `parent_axes` (auto's
+// search_from_parent, build.hpp): approx, approx-kernel and normal-bopt start from Bopt along
+// these axes (normal-bopt: its fallback box) instead of their grid scans (the PCA box).
 [[nodiscard]] Obb fit_triangles_with_pca_axes(std::span<const Vec3> corners, std::span<const Vec3> vertices,
-                                              const FitOptions& options, FitWorkspace& workspace, const Mat3& pca_axes);
+                                              const FitOptions& options, FitWorkspace& workspace, const Mat3* pca_axes,
+                                              const Mat3* parent_axes = nullptr);
 
 // B*(S) of Lemma 6.3.1: approximate diameter st, approximate diameter s't' of the projection
 // onto the plane orthogonal to st, third axis orthogonal to both. O(n), volume <= 7 optimum.
@@ -54,12 +57,15 @@ class VolumeBound {
 // L-inf norm <= k, keep the smallest; then (if `improve`) the local improvement of Section 6.5
 // from the four best and a pattern search over the best box's direction.
 [[nodiscard]] AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool improve,
-                                  BoptScratch& scratch);
+                                  BoptScratch& scratch, std::span<const Vec3> seeds = {}, bool scan = true);
 
 // The cheap variant used on kernels (approx-kernel): the grid scan of grid_search keeping only
 // the best box, then at most 4 rounds of the axis improvement, stopping below a 0.1% gain; no
 // restarts and no tilt search (those cost 3-5x more Bopt calls for the last 1-2% of volume).
-[[nodiscard]] AxisBox quick_grid_search(const HullGeometry& g, const AxisBox& bstar, int k, BoptScratch& scratch);
+// Both: Bopt along each of `seeds` competes with the scanned boxes; `scan` false skips the scan
+// (the search starts from bstar and the seeds alone).
+[[nodiscard]] AxisBox quick_grid_search(const HullGeometry& g, const AxisBox& bstar, int k, BoptScratch& scratch,
+                                        std::span<const Vec3> seeds = {}, bool scan = true);
 
 struct ExactStats {
   std::size_t edge_pairs = 0;       // ordered edge pairs with a non-empty orthogonal family

@@ -155,11 +155,34 @@ TopBoxes scan_grid(const HullGeometry& g, const AxisBox& bstar, const VolumeBoun
 
 }  // namespace
 
-AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool improve_step, BoptScratch& scratch) {
+AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool improve_step, BoptScratch& scratch,
+                    std::span<const Vec3> seeds, bool scan) {
   // Keep the few best boxes: the local improvement is run from each of them (it converges to
   // local minima, Section 6.5, so a second or third start often lands in a better one).
   const VolumeBound bound(g, bstar);
-  const TopBoxes top = scan_grid(g, bstar, bound, k, kStarts, scratch);
+  TopBoxes top;
+  if (scan) {
+    top = scan_grid(g, bstar, bound, k, kStarts, scratch);
+  } else {
+    top.box.fill(bstar);
+    top.volume.fill(std::numeric_limits<double>::infinity());
+    top.volume[0] = bstar.volume();
+  }
+  for (const Vec3& v : seeds) {
+    const AxisBox box = bopt(g, v, scratch);
+    const double volume = box.volume();
+    if (!(volume < top.volume[kStarts - 1])) continue;
+    int at = kStarts - 1;
+    while (at > 0 && volume < top.volume[at - 1]) {
+      top.volume[at] = top.volume[at - 1];
+      top.box[at] = top.box[at - 1];
+      top.from_bopt[at] = top.from_bopt[at - 1];
+      --at;
+    }
+    top.volume[at] = volume;
+    top.box[at] = box;
+    top.from_bopt[at] = true;
+  }
   if (!improve_step) return top.box[0];
   AxisBox best = top.box[0];
   double best_volume = top.volume[0];
@@ -171,9 +194,20 @@ AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool imp
   return refine_direction(g, best, bound, scratch);
 }
 
-AxisBox quick_grid_search(const HullGeometry& g, const AxisBox& bstar, int k, BoptScratch& scratch) {
-  const VolumeBound bound(g, bstar);
-  const TopBoxes top = scan_grid(g, bstar, bound, k, 1, scratch);
+AxisBox quick_grid_search(const HullGeometry& g, const AxisBox& bstar, int k, BoptScratch& scratch,
+                          std::span<const Vec3> seeds, bool scan) {
+  TopBoxes top;
+  if (scan) {
+    const VolumeBound bound(g, bstar);
+    top = scan_grid(g, bstar, bound, k, 1, scratch);
+  } else {
+    top.box[0] = bstar;
+    top.volume[0] = bstar.volume();
+  }
+  for (const Vec3& v : seeds) {
+    const AxisBox box = bopt(g, v, scratch);
+    if (box.volume() < top.volume[0]) top.box[0] = box, top.volume[0] = box.volume(), top.from_bopt[0] = true;
+  }
   return improve(g, top.box[0], scratch, 1e-3, 4, top.from_bopt[0]);
 }
 

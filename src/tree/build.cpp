@@ -1,4 +1,5 @@
 #include "tightbvh/build.hpp"
+#include "../fit/fitters.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -81,7 +82,9 @@ struct Pending {
   Index node;
   Index begin;
   Index end;
+  Index parent;  // kNoParent for the root
 };
+constexpr Index kNoParent = std::numeric_limits<Index>::max();
 
 // Per-worker buffers, reused from node to node: no allocation per node once they have grown.
 struct Scratch {
@@ -112,7 +115,7 @@ class Builder {
   // `moments`: the node's, when its parent derived them (else summed here when the fitter wants
   // them); on return, the moments of the children when they could be had cheaply.
   Index process(Node& node, Index begin, Index end, Scratch& scratch, Moments& moments, Moments& left,
-                Moments& right) {
+                Moments& right, const CompactBox* parent_box) {
     left.valid = right.valid = false;
     const Index n = end - begin;
     if (!uses_moments_ || !wants_moments(n)) {
@@ -139,7 +142,9 @@ class Builder {
       fitted = node.box.obb();
     } else {
       std::span<const Vec3> points;
-      fitted = fit(begin, end, scratch, points, have_axes ? &axes : nullptr);
+      Mat3 parent_axes;
+      if (parent_box != nullptr) parent_axes = parent_box->axes_d();
+      fitted = fit(begin, end, scratch, points, have_axes ? &axes : nullptr, parent_box != nullptr ? &parent_axes : nullptr);
       node.box = compact_box(fitted, points);
     }
     if (n <= options_.leaf_size) {
@@ -159,11 +164,11 @@ class Builder {
   // Builds the subtree of [begin, end) whose root is nodes[root] depth first, allocating child
   // pairs from nodes[next ...]; returns the end of what it used. An explicit stack: the RAPID
   // split can be very unbalanced (depth ~ n on some inputs).
-  std::size_t build_subtree(Index root, Index begin, Index end, std::span<Node> nodes, std::size_t next,
+  std::size_t build_subtree(Index root, Index begin, Index end, Index parent, std::span<Node> nodes, std::size_t next,
                             Scratch& scratch) {
     auto& stack = scratch.stack;
     auto& stacked = scratch.moments;  // kept only when the fitter uses moments: pca's stack stays small
-    stack.assign(1, {root, begin, end});
+    stack.assign(1, {root, begin, end, parent});
     stacked.assign(uses_moments_ ? 1 : 0, Moments{});
     Moments moments, left, right;
     while (!stack.empty()) {
@@ -174,13 +179,14 @@ class Builder {
         stacked.pop_back();
       }
       Node& node = nodes[p.node];
-      const Index mid = process(node, p.begin, p.end, scratch, moments, left, right);
+      const Index mid = process(node, p.begin, p.end, scratch, moments, left, right,
+                                p.parent == kNoParent ? nullptr : &nodes[p.parent].box);
       if (mid != p.end) {
         node.first = static_cast<Index>(next);
         node.count = 0;
         next += 2;
-        stack.push_back({node.first + 1, mid, p.end});
-        stack.push_back({node.first, p.begin, mid});
+        stack.push_back({node.first + 1, mid, p.end, p.node});
+        stack.push_back({node.first, p.begin, mid, p.node});
         if (uses_moments_) {
           stacked.push_back(right);
           stacked.push_back(left);
@@ -193,7 +199,12 @@ class Builder {
  private:
   // Whether a node of n triangles is fitted from its PCA box (not a single triangle's box).
   [[nodiscard]] bool wants_moments(Index n) const {
-    return n >= 2 && fit_detail::uses_pca_axes(detail::method_for(options_.fitter, n, order_.size()));
+    const FitMethod method = detail::method_for(options_.fitter, n, order_.size());
+    // auto's normal-bopt nodes below the root fall back on the parent's axes, not on PCA's.
+    if (const auto* a = std::get_if<AutoFit>(&options_.fitter); a && a->search_from_parent && method == a->cheap &&
+                                                                  method == FitMethod::normal_bopt)
+      return false;
+    return n >= 2 && fit_detail::uses_pca_axes(method);
   }
 
   // Whether a node of n triangles fits from derived moments (normal-bopt: the PCA box is only its
@@ -202,7 +213,7 @@ class Builder {
   // frame, so axes rotated by rounding can pick other extreme points and another box, and the
   // splits below follow; elephant's gain share moved 0.885 -> 0.874 with derived moments there).
   [[nodiscard]] bool takes_derived_moments(Index n) const {
-    return detail::method_for(options_.fitter, n, order_.size()) == FitMethod::normal_bopt;
+    return detail::method_for(options_.fitter, n, order_.size()) == FitMethod::normal_bopt && wants_moments(n);
   }
 
   // After the split of a node with moments: the smaller child's summed over its triangles, the
@@ -259,7 +270,7 @@ class Builder {
   // when the fitter asked for them (the same maxima as over the corners, from ~6x fewer points),
   // else its corners.
   [[nodiscard]] Obb fit(Index begin, Index end, Scratch& scratch, std::span<const Vec3>& points,
-                        const Mat3* pca_axes) const {
+                        const Mat3* pca_axes, const Mat3* parent_axes) const {
     points = node_corners(begin, end);
     return detail::fit_node(
         node_corners(begin, end), order_.size(), options_.fitter, options_.fit, scratch.fit,
@@ -267,7 +278,7 @@ class Builder {
           points = node_vertices(begin, end, scratch);
           return points;
         },
-        pca_axes);
+        pca_axes, parent_axes);
   }
 
   const Mesh& mesh_;
@@ -299,6 +310,7 @@ struct Job {
   std::size_t next;
   Index begin;
   Index end;
+  Index parent;  // kNoParent for the root
 };
 
 // Largest subtree first (load balance: the big fits start early), then by position: a strict
@@ -357,21 +369,22 @@ Tree build(const Mesh& mesh, const BuildOptions& options) {
   detail::reserve_huge_pages(tree.nodes, 2 * std::size_t{n} - 1);
   tree.nodes.resize(2 * std::size_t{n} - 1);
   const Index grain = task_grain(n);
-  pool.run_tasks(Job{0, 1, 0, n}, runs_before, [&](const Job& job, Scratch& scratch, auto spawn) {
+  pool.run_tasks(Job{0, 1, 0, n, kNoParent}, runs_before, [&](const Job& job, Scratch& scratch, auto spawn) {
     if (job.end - job.begin <= grain) {
-      (void)builder.build_subtree(job.slot, job.begin, job.end, tree.nodes, job.next, scratch);
+      (void)builder.build_subtree(job.slot, job.begin, job.end, job.parent, tree.nodes, job.next, scratch);
       return;
     }
     Node& node = tree.nodes[job.slot];
     // A task sums its own moments: which nodes are tasks depends on the mesh only (task_grain),
     // so the tree stays the same for any thread count.
     Moments moments, left, right;
-    const Index mid = builder.process(node, job.begin, job.end, scratch, moments, left, right);
+    const Index mid = builder.process(node, job.begin, job.end, scratch, moments, left, right,
+                                      job.parent == kNoParent ? nullptr : &tree.nodes[job.parent].box);
     if (mid == job.end) return;  // a leaf (leaf_size > grain)
     node.first = static_cast<Index>(job.next);
     node.count = 0;
-    spawn(Job{node.first, job.next + 2, job.begin, mid});
-    spawn(Job{node.first + 1, job.next + 2 * std::size_t{mid - job.begin}, mid, job.end});
+    spawn(Job{node.first, job.next + 2, job.begin, mid, job.slot});
+    spawn(Job{node.first + 1, job.next + 2 * std::size_t{mid - job.begin}, mid, job.end, job.slot});
   });
   if (options.leaf_size > 1) close_gaps(tree);
   return tree;

@@ -102,10 +102,12 @@ inline void column_extremes(std::span<const Vec3> points, std::vector<Vec3>& out
 // caller has none): the hull-based fitters work on them, pca on the corners; it is only called
 // when needed. `pca_axes`, when given, are the node's PCA axes (from moments the builder derives
 // along the tree), used by the methods that start from the PCA box instead of a pass of their own.
+// `parent_axes`, when given, are the axes of the parent's box, where `auto` starts its search
+// below the root (AutoFit::search_from_parent).
 template <class Vertices>
 [[nodiscard]] Obb fit_node(std::span<const Vec3> corners, std::size_t mesh_triangles, const Fitter& fitter,
                            const FitOptions& options, FitWorkspace& workspace, Vertices&& vertices,
-                           const Mat3* pca_axes = nullptr) {
+                           const Mat3* pca_axes = nullptr, const Mat3* parent_axes = nullptr) {
   const std::size_t triangles = corners.size() / 3;
   const FitMethod method = method_for(fitter, triangles, mesh_triangles);
   if (triangles == 1 && method != FitMethod::aabb) {
@@ -128,8 +130,10 @@ template <class Vertices>
       column_extremes(distinct, extremes);
       const Obb oriented = fit_points(extremes, fit, workspace);
       box = fit_detail::box_with_axes(distinct, oriented.axes, oriented.center);  // contains every vertex
-    } else if (pca_axes != nullptr && !distinct.empty() && fit_detail::uses_pca_axes(method)) {
-      box = fit_detail::fit_triangles_with_pca_axes(corners, distinct, fit, workspace, *pca_axes);
+    } else if (const Mat3* from = a && a->search_from_parent ? parent_axes : nullptr;
+               !distinct.empty() && (pca_axes != nullptr || from != nullptr) &&
+               (fit_detail::uses_pca_axes(method) || method == FitMethod::approx)) {
+      box = fit_detail::fit_triangles_with_pca_axes(corners, distinct, fit, workspace, pca_axes, from);
     } else {
       box = distinct.empty() ? fit_triangles(corners, fit, workspace) : fit_triangles(corners, distinct, fit, workspace);
     }

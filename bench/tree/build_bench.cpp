@@ -12,8 +12,9 @@
 //       wall time of one build on 1 thread and on T (default 2), alternating, medians of R
 //       (default 7), the speed-up, and whether the trees are the same bit for bit.
 //   tightbvh-build-bench --scale MESH --triangles N --fitter F [--threads T]
-//       subdivides MESH 1->4 until it has >= N triangles, builds once, prints time and peak
-//       memory (getrusage; run one fitter per process to get each fitter's peak).
+//       subdivides MESH 1->4 until it has >= N triangles, builds once, prints the row
+//       | mesh | fitter | threads | triangles | wall s | peak MiB before | after | tree MiB |
+//       depth | validated | sum of node volumes | (getrusage; one fitter per process for its peak).
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -259,8 +260,8 @@ int auto_sweep(const std::vector<std::filesystem::path>& meshes, unsigned thread
     const OurResult pca = our_build(mesh, options_for(FitMethod::pca, threads), repeats);
     const OurResult approx = our_build(mesh, options_for(FitMethod::approx, threads), 1);
     const double approx_gain = 1 - approx.stats.sum_volume / pca.stats.sum_volume;
-    for (const std::uint32_t t : {512u, 2048u, 8192u, 1u << 30})
-      for (const std::uint32_t m : {16u, 32u, 64u, 1u << 30}) {
+    for (const std::uint32_t t : {512u, 1024u, 2048u, 8192u, 1u << 30})
+      for (const std::uint32_t m : {32u, 64u, 128u, 1u << 30}) {
         if (m > t) continue;
         const AutoFit policy{.tight_min_triangles = t, .medium_min_triangles = m};
         const OurResult r = our_build(mesh, options_for(policy, threads), repeats);
@@ -295,9 +296,9 @@ int scale(const std::filesystem::path& path, std::size_t triangles, const std::s
   const TreeStats s = tree_stats(tree);
   std::string valid = "not checked";
   if (check) valid = validate(tree, mesh).ok() ? "valid" : "INVALID";
-  std::printf("| %s x%zu | %s | %u | %zu | %.2f | %.0f | %.0f | %.1f | %zu | %s |\n", name_of(path).c_str(),
+  std::printf("| %s x%zu | %s | %u | %zu | %.2f | %.0f | %.0f | %.1f | %zu | %s | %.6g |\n", name_of(path).c_str(),
               mesh.triangles.size(), fitter_name.c_str(), threads, mesh.triangles.size(), seconds, before, after,
-              static_cast<double>(s.bytes) / (1024.0 * 1024.0), s.depth_max, valid.c_str());
+              static_cast<double>(s.bytes) / (1024.0 * 1024.0), s.depth_max, valid.c_str(), s.sum_volume);
   return 0;
 }
 

@@ -39,12 +39,13 @@ struct AutoFit {
   // the set on a grid before hulling it) and measure the extents over all vertices; 0: never.
   std::uint32_t column_extremes_above = 65536;
   // On meshes of more than this many triangles both thresholds grow in proportion to the mesh
-  // (x n / scale_above, e.g. 18,852 and 589 on 1.2M triangles); 0: never. A node's share of the
+  // (x n / scale_above, e.g. 2,356 and 147 on bunny00's 75,408 triangles, 37,704 and 2,356 on
+  // 1.2M); 0: never. A node's share of the
   // sum of volumes follows its fraction of the mesh, not its triangle count (the pca trees of
   // bunny00 and of bunny00 subdivided twice, 16x the triangles, hold the same shares in nodes of
   // the same fraction), so on large meshes fixed thresholds would spend the tight search on
   // nodes that hold little volume (README, "The default fitter").
-  std::uint32_t scale_above = 131072;
+  std::uint32_t scale_above = 32768;
   // Below the root, start each node's search from its parent's box: a child is a part of its
   // parent, cut across the parent's box, and the parent's axes are most often close to its own
   // best ones. `tight` (approx) nodes then run approx's axis improvement and tilt search from the

@@ -150,6 +150,7 @@ class DistanceSearch {
           if (!tri_tri_overlap(p0, p1, p2, chunk[j][0], chunk[j][1], chunk[j][2])) continue;
           const TriangleDistance d = tri_tri_distance(p0, p1, p2, chunk[j][0], chunk[j][1], chunk[j][2]);
           best_ = {0.0, true, {ia, tb_.triangle_order[nb.first + cb + j]}, d.point_p, d.point_q};
+          prune_at_ = 0.0;
           return true;
         }
       }
@@ -157,9 +158,15 @@ class DistanceSearch {
     return false;
   }
 
-  // Phase 2's bounds of every pair set aside, two at a time.
+  // Phase 2's bounds of every pair set aside, four at a time (the four-lane bound), the rest two
+  // at a time.
   void bound_all(std::vector<BoundedPair>& pairs) {
     std::size_t i = 0;
+    for (; i + 3 < pairs.size(); i += 4) {
+      BoundedPair four[4] = {pairs[i], pairs[i + 1], pairs[i + 2], pairs[i + 3]};
+      lower_bounds4(four);
+      for (int k = 0; k < 4; ++k) pairs[i + k].bound = four[k].bound;
+    }
     for (; i + 1 < pairs.size(); i += 2) {
       const auto b = lower_bounds(pairs[i].a, pairs[i].b, pairs[i + 1].a, pairs[i + 1].b);
       pairs[i].bound = b[0], pairs[i + 1].bound = b[1];
@@ -319,7 +326,10 @@ class DistanceSearch {
 
   // The pair cannot hold a triangle pair that beats the best so far by more than the allowed
   // error (PQP's test), or one closer than the upper bound.
+  // With no error allowed (the default) that is bound >= min(upper bound, best), kept in
+  // prune_at_: the same decision, as bound * 1 + 0 == bound.
   [[nodiscard]] bool prunable(double bound) const {
+    if (exact_) return bound >= prune_at_;
     return bound >= options_.upper_bound ||
            bound * (1.0 + options_.relative_error) + options_.absolute_error >= best_.distance;
   }
@@ -410,6 +420,7 @@ class DistanceSearch {
             ma_.vertices[tri_a[0]], ma_.vertices[tri_a[1]], ma_.vertices[tri_a[2]], q0, q1, q2);
         if (d.distance < best_.distance && d.distance < options_.upper_bound) {
           best_ = {d.distance, true, {ia, ib}, d.point_p, d.point_q};
+          prune_at_ = std::min(prune_at_, d.distance);
           const Vec3 v = d.point_q - d.point_p;
           const double length = v.norm();
           toward_b_ = length > 0.0 ? Vec3(v / length) : Vec3::Zero();
@@ -426,6 +437,9 @@ class DistanceSearch {
   const DistanceOptions& options_;
   QueryWorkspace::Scratch& ws_;
   double margin_ = 0.0;
+  // prunable()'s threshold when no error is allowed: min(upper bound, best distance).
+  bool exact_ = options_.relative_error == 0.0 && options_.absolute_error == 0.0;
+  double prune_at_ = options_.upper_bound;
   bool avx2_ = query_detail::avx2_bounds_available();
   // The unit direction from the best pair's point on A to its point on B (zero until there is
   // one), and the rounding allowance of a gap measured along it (run()).

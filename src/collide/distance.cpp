@@ -222,7 +222,7 @@ class DistanceSearch {
   // Both nodes split at once when neither is a leaf and they are of about one size (by the
   // descend rule's measure): the four child pairs are about the pairs two single splits would
   // bound next anyway (0.4% more bounds on the shipped pair's gap and separated poses), for one
-  // call of the four-lane bound and fewer heap operations.
+  // call of the four-lane bound and fewer queue operations.
   [[nodiscard]] bool split_both(const Node& na, const Node& nb) const {
     return query_detail::splits_both(query_detail::choose_split(na, nb, options_.descend, kSearchSplitBothRatio));
   }

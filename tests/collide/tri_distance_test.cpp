@@ -8,6 +8,7 @@
 #include <random>
 
 #include "tightbvh/tri_tri.hpp"
+#include "collide/box_bounds4.hpp"
 #include "collide/tri_distance_disjoint.hpp"
 
 namespace tightbvh {
@@ -226,7 +227,7 @@ TEST(TriDistance, DisjointVariantEqualsTheDistanceOnPairsThatDoNotTouch) {
 // the answer there is meaningless but still one), degenerate (segments, points), nearly parallel
 // and far-apart pairs, and the distance must stay symmetric on either path.
 TEST(TriDistance, AvxAndScalarPathsAgreeBitForBit) {
-  if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "no AVX2 on this CPU: the scalar path alone runs";
+  if (!query_detail::avx2_bounds_available()) GTEST_SKIP() << "no AVX2 lanes here: the scalar path alone runs";
   std::mt19937_64 rng(23);
   std::uniform_int_distribution<int> g(0, 3);
   std::uniform_real_distribution<double> tiny(-1e-9, 1e-9);

@@ -150,6 +150,7 @@ class DistanceSearch {
           if (!tri_tri_overlap(p0, p1, p2, chunk[j][0], chunk[j][1], chunk[j][2])) continue;
           const TriangleDistance d = tri_tri_distance(p0, p1, p2, chunk[j][0], chunk[j][1], chunk[j][2]);
           best_ = {0.0, true, {ia, tb_.triangle_order[nb.first + cb + j]}, d.point_p, d.point_q};
+          prune_at_ = 0.0;
           return true;
         }
       }
@@ -157,9 +158,15 @@ class DistanceSearch {
     return false;
   }
 
-  // Phase 2's bounds of every pair set aside, two at a time.
+  // Phase 2's bounds of every pair set aside, four at a time (the four-lane bound), the rest two
+  // at a time.
   void bound_all(std::vector<BoundedPair>& pairs) {
     std::size_t i = 0;
+    for (; i + 3 < pairs.size(); i += 4) {
+      BoundedPair four[4] = {pairs[i], pairs[i + 1], pairs[i + 2], pairs[i + 3]};
+      lower_bounds4(four);
+      for (int k = 0; k < 4; ++k) pairs[i + k].bound = four[k].bound;
+    }
     for (; i + 1 < pairs.size(); i += 2) {
       const auto b = lower_bounds(pairs[i].a, pairs[i].b, pairs[i + 1].a, pairs[i + 1].b);
       pairs[i].bound = b[0], pairs[i + 1].bound = b[1];
@@ -215,7 +222,7 @@ class DistanceSearch {
   // Both nodes split at once when neither is a leaf and they are of about one size (by the
   // descend rule's measure): the four child pairs are about the pairs two single splits would
   // bound next anyway (0.4% more bounds on the shipped pair's gap and separated poses), for one
-  // call of the four-lane bound and fewer heap operations.
+  // call of the four-lane bound and fewer queue operations.
   [[nodiscard]] bool split_both(const Node& na, const Node& nb) const {
     return query_detail::splits_both(query_detail::choose_split(na, nb, options_.descend, kSearchSplitBothRatio));
   }
@@ -241,27 +248,27 @@ class DistanceSearch {
     return count;
   }
 
-  // Phase 2: best first (a min-heap of node pairs by bound), so that only pairs whose bound is
-  // below the final distance are split: 37% fewer bounds and 57% fewer triangle pairs than
-  // PQP's depth-first order on the shipped pair's gap poses. A popped pair that is prunable ends
-  // the search (every pair left has a larger bound). The best child of a split (two child pairs,
-  // or four when both nodes split) is not pushed when no pair on the heap has a smaller bound: it
-  // is split next, as a pop would have chosen it (the same order up to ties, without the heap
-  // operations); otherwise it takes the top's place on the heap and the top is split next (one
-  // sift instead of a push and a pop).
-  void best_first(std::vector<BoundedPair>& heap) {
-    const auto later = [](const BoundedPair& x, const BoundedPair& y) { return x.bound > y.bound; };
-    std::make_heap(heap.begin(), heap.end(), later);
-    if (heap.empty()) return;
-    BoundedPair np = pop(heap);
+  // Phase 2: best first (a queue of node pairs by bound, RadixQueue), so that only pairs whose
+  // bound is below the final distance are split: 37% fewer bounds and 57% fewer triangle pairs
+  // than PQP's depth-first order on the shipped pair's gap poses. A popped pair that is prunable
+  // ends the search (every pair left has a larger bound). The best child of a split (two to four
+  // child pairs) goes through the queue, whose push is cheap (the other children are pushed or
+  // measured at once). A child's bound is raised to its parent's (its triangles are among the parent's, so that is a
+  // lower bound too), which makes the queue monotone.
+  void best_first(std::vector<BoundedPair>& aside) {
+    query_detail::RadixQueue& queue = ws_.distance_queue;
+    queue.clear();
+    for (const BoundedPair& p : aside) queue.push(p);
+    if (queue.empty()) return;
+    BoundedPair np = queue.pop();
     for (;;) {
       if (prunable(np.bound)) break;
       const Node& na = ta_.nodes[np.a];
       const Node& nb = tb_.nodes[np.b];
       if (na.is_leaf() && nb.is_leaf()) {
         leaves(np.a, np.b);
-        if (heap.empty()) break;
-        np = pop(heap);
+        if (queue.empty()) break;
+        np = queue.pop();
         continue;
       }
       // The children: all four pairs when both nodes split (one call of the four-lane bound),
@@ -285,12 +292,13 @@ class DistanceSearch {
           lower_bounds4(kids, count);
         }
       }
-      // The best child (the first on a tie, as the heap's order mostly had it); the others wait,
-      // but for pairs of two leaves, measured at once: their triangle tests rule most of them out
-      // cheaply (leaves()), for less than a push and a later pop, and a closer pair found early
-      // prunes more. The same distance (any order finds the least); 1-13% more triangle pairs
-      // measured, medians of 0.93-1.03x the time on the four bench pairs' separated and gap
-      // poses, 12 of 14 faster (2026-11-26, README "Distance and safety margin").
+      for (int k = 0; k < count; ++k) kids[k].bound = std::max(kids[k].bound, np.bound);
+      // The best child (the first on a tie); the others wait, but for pairs of two leaves,
+      // measured at once: their triangle tests rule most of them out cheaply (leaves()), for
+      // less than a push and a later pop, and a closer pair found early prunes more. The same
+      // distance (any order finds the least); 1-13% more triangle pairs measured, medians of
+      // 0.93-1.03x the time on the four bench pairs' separated and gap poses, 12 of 14 faster
+      // (2026-11-26, README "Distance and safety margin").
       int lo_index = 0;
       for (int k = 1; k < count; ++k)
         if (kids[k].bound < kids[lo_index].bound) lo_index = k;
@@ -299,75 +307,29 @@ class DistanceSearch {
         if (ta_.nodes[kids[k].a].is_leaf() && tb_.nodes[kids[k].b].is_leaf())
           leaves(kids[k].a, kids[k].b);
         else
-          push(heap, kids[k]);
+          queue.push(kids[k]);
       }
       const BoundedPair& lo = kids[lo_index];
       if (prunable(lo.bound)) {  // then so are the others
-        if (heap.empty()) break;
-        np = pop(heap);
-      } else if (!heap.empty() && heap.front().bound < lo.bound) {
-        np = heap.front();
-        heap.front() = lo;
-        sift_down(heap, 0);
-      } else {
+        if (queue.empty()) break;
+        np = queue.pop();
+      } else if (queue.empty()) {
         np = lo;
+      } else {
+        // Through the queue: it yields the least of `lo` and its pairs. (Peeking at its least
+        // first would settle the queue on a key that `lo`'s children may be below.)
+        queue.push(lo);
+        np = queue.pop();
       }
     }
-  }
-
-  // The min-heap by bound of best_first (std::make_heap's layout with `later`: heap[0] least).
-  static void sift_down(std::vector<BoundedPair>& heap, std::size_t i) {
-    const std::size_t n = heap.size();
-    const BoundedPair x = heap[i];
-    for (;;) {
-      std::size_t c = 2 * i + 1;
-      if (c >= n) break;
-      if (c + 1 < n && heap[c + 1].bound < heap[c].bound) ++c;
-      if (!(heap[c].bound < x.bound)) break;
-      heap[i] = heap[c];
-      i = c;
-    }
-    heap[i] = x;
-  }
-  static void push(std::vector<BoundedPair>& heap, const BoundedPair& x) {
-    std::size_t i = heap.size();
-    heap.push_back(x);
-    while (i > 0) {
-      const std::size_t parent = (i - 1) / 2;
-      if (!(x.bound < heap[parent].bound)) break;
-      heap[i] = heap[parent];
-      i = parent;
-    }
-    heap[i] = x;
-  }
-  // Floyd's pop: the hole left at the top goes down to the bottom along the smaller children
-  // (chosen without a branch: which child is smaller is a coin toss), then the last element
-  // rises from there, usually by a level or none. About 1.5% less time per query than sift_down.
-  static BoundedPair pop(std::vector<BoundedPair>& heap) {
-    const BoundedPair top = heap.front();
-    const BoundedPair last = heap.back();
-    heap.pop_back();
-    const std::size_t n = heap.size();
-    if (n == 0) return top;
-    std::size_t i = 0;
-    for (std::size_t c = 1; c < n; c = 2 * i + 1) {
-      c += static_cast<std::size_t>(c + 1 < n && heap[c + 1].bound < heap[c].bound);
-      heap[i] = heap[c];
-      i = c;
-    }
-    while (i > 0) {
-      const std::size_t parent = (i - 1) / 2;
-      if (!(last.bound < heap[parent].bound)) break;
-      heap[i] = heap[parent];
-      i = parent;
-    }
-    heap[i] = last;
-    return top;
   }
 
   // The pair cannot hold a triangle pair that beats the best so far by more than the allowed
   // error (PQP's test), or one closer than the upper bound.
+  // With no error allowed (the default) that is bound >= min(upper bound, best), kept in
+  // prune_at_: the same decision, as bound * 1 + 0 == bound.
   [[nodiscard]] bool prunable(double bound) const {
+    if (exact_) return bound >= prune_at_;
     return bound >= options_.upper_bound ||
            bound * (1.0 + options_.relative_error) + options_.absolute_error >= best_.distance;
   }
@@ -458,6 +420,7 @@ class DistanceSearch {
             ma_.vertices[tri_a[0]], ma_.vertices[tri_a[1]], ma_.vertices[tri_a[2]], q0, q1, q2);
         if (d.distance < best_.distance && d.distance < options_.upper_bound) {
           best_ = {d.distance, true, {ia, ib}, d.point_p, d.point_q};
+          prune_at_ = std::min(prune_at_, d.distance);
           const Vec3 v = d.point_q - d.point_p;
           const double length = v.norm();
           toward_b_ = length > 0.0 ? Vec3(v / length) : Vec3::Zero();
@@ -474,6 +437,9 @@ class DistanceSearch {
   const DistanceOptions& options_;
   QueryWorkspace::Scratch& ws_;
   double margin_ = 0.0;
+  // prunable()'s threshold when no error is allowed: min(upper bound, best distance).
+  bool exact_ = options_.relative_error == 0.0 && options_.absolute_error == 0.0;
+  double prune_at_ = options_.upper_bound;
   bool avx2_ = query_detail::avx2_bounds_available();
   // The unit direction from the best pair's point on A to its point on B (zero until there is
   // one), and the rounding allowance of a gap measured along it (run()).

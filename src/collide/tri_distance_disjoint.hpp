@@ -11,4 +11,10 @@ namespace tightbvh::query_detail {
 [[nodiscard]] TriangleDistance tri_tri_distance_disjoint(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
                                                          const Vec3& q0, const Vec3& q1, const Vec3& q2);
 
+// The same with the path chosen: `avx2` false forces the scalar kernel (tests compare the two
+// paths bit for bit); true uses the AVX2 lanes where the CPU has them.
+[[nodiscard]] TriangleDistance tri_tri_distance_disjoint_path(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
+                                                              const Vec3& q0, const Vec3& q1, const Vec3& q2,
+                                                              bool avx2);
+
 }  // namespace tightbvh::query_detail

@@ -2,11 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
 #include <string>
 
+#include "collide/query_workspace.hpp"
 #include "query_fixtures.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
@@ -279,6 +281,39 @@ TEST(Distance, BatchIsIdenticalForAnyThreadCount) {
     }
   }
   EXPECT_TRUE(distance_batch(ta, a, Pose{}, tb, b, {}, {}, 2).empty());
+}
+
+// The search's radix queue: with every push at least the last pop (the search's monotone use),
+// pops come out least first, the same multiset as a sorted reference, over several reuses
+// (clear()) and with ties, zeros, infinities and bounds spanning many exponents.
+TEST(Distance, RadixQueuePopsLeastFirstUnderMonotonePushes) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  query_detail::RadixQueue queue;
+  for (int round = 0; round < 50; ++round) {
+    queue.clear();
+    std::vector<double> pending;  // the reference: the bounds pushed and not yet popped
+    double last = 0.0;
+    std::uint32_t id = 0;
+    const auto push = [&](double bound) {
+      queue.push({id++, 0, bound});
+      pending.push_back(bound);
+    };
+    for (int k = 0; k < 20; ++k) push(std::ldexp(u(rng), -10 + static_cast<int>(rng() % 20)));
+    push(0.0), push(0.0), push(std::numeric_limits<double>::infinity());
+    while (!queue.empty()) {
+      const query_detail::BoundedPair x = queue.pop();
+      const auto least = std::min_element(pending.begin(), pending.end());
+      ASSERT_EQ(x.bound, *least) << round;
+      ASSERT_GE(x.bound, last);
+      pending.erase(least);
+      last = x.bound;
+      if (std::isinf(last)) continue;
+      const int children = static_cast<int>(rng() % 4);  // at least the last pop, often equal
+      for (int c = 0; c < children; ++c) push(rng() % 3 == 0 ? last : last * (1.0 + u(rng)) + u(rng) * 1e-3);
+      if (id > 2000) break;
+    }
+  }
 }
 
 TEST(Distance, BadInputAndEmptyTrees) {

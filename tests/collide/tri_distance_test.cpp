@@ -8,6 +8,7 @@
 #include <random>
 
 #include "tightbvh/tri_tri.hpp"
+#include "collide/box_bounds4.hpp"
 #include "collide/tri_distance_disjoint.hpp"
 
 namespace tightbvh {
@@ -218,6 +219,71 @@ TEST(TriDistance, DisjointVariantEqualsTheDistanceOnPairsThatDoNotTouch) {
     ASSERT_EQ(fast.point_q, full.point_q) << k;
   }
   EXPECT_GT(apart, 1500);
+}
+
+// The disjoint distance's candidates run in AVX2 lanes where the CPU has them
+// (tri_distance_avx2.cpp) and one at a time otherwise: both paths must give the same distance
+// and points bit for bit, on random, grid (shared vertices and edges, coplanar, parallel, touching:
+// the answer there is meaningless but still one), degenerate (segments, points), nearly parallel
+// and far-apart pairs, and the distance must stay symmetric on either path.
+TEST(TriDistance, AvxAndScalarPathsAgreeBitForBit) {
+  if (!query_detail::avx2_bounds_available()) GTEST_SKIP() << "no AVX2 lanes here: the scalar path alone runs";
+  std::mt19937_64 rng(23);
+  std::uniform_int_distribution<int> g(0, 3);
+  std::uniform_real_distribution<double> tiny(-1e-9, 1e-9);
+  const auto same = [](const TriangleDistance& x, const TriangleDistance& y) {
+    return x.distance == y.distance && x.point_p == y.point_p && x.point_q == y.point_q;
+  };
+  int parallel_like = 0;
+  for (int k = 0; k < 20000; ++k) {
+    Tri p, q;
+    switch (k % 6) {
+      case 0:  // grid: shared corners, edges, coplanar and parallel faces, touching pairs
+        for (Vec3& v : p) v = Vec3(g(rng), g(rng), g(rng) * 0.5);
+        for (Vec3& v : q) v = Vec3(g(rng), g(rng), g(rng) * 0.5);
+        break;
+      case 1: {  // random, apart
+        for (Vec3& v : p) v = random_point(rng, 1.0);
+        const Vec3 shift = random_point(rng, 3.0);
+        for (Vec3& v : q) v = random_point(rng, 1.0) + shift;
+        break;
+      }
+      case 2:  // degenerate: a segment against a point or a triangle
+        p = {random_point(rng, 1.0), random_point(rng, 1.0), Vec3::Zero()};
+        p[2] = p[0] + (k % 4 == 0 ? 0.0 : 0.5) * (p[1] - p[0]);
+        q = {random_point(rng, 1.0), random_point(rng, 1.0), random_point(rng, 1.0)};
+        if (k % 5 == 0) q[1] = q[2] = q[0];
+        break;
+      case 3: {  // nearly parallel edges: a translated copy with a tiny tilt
+        for (Vec3& v : p) v = random_point(rng, 1.0);
+        const Vec3 shift = random_point(rng, 0.5);
+        for (int i = 0; i < 3; ++i) q[i] = p[i] + shift + Vec3(tiny(rng), tiny(rng), tiny(rng));
+        ++parallel_like;
+        break;
+      }
+      case 4: {  // parallel planes, one triangle above the other
+        for (Vec3& v : p) v = Vec3(random_point(rng, 1.0).x(), random_point(rng, 1.0).y(), 0.0);
+        const double h = 1e-3 * (1 + g(rng));
+        for (Vec3& v : q) v = Vec3(random_point(rng, 1.0).x(), random_point(rng, 1.0).y(), h);
+        break;
+      }
+      default: {  // far from the origin, small and close
+        const Vec3 far = random_point(rng, 1e6);
+        for (Vec3& v : p) v = far + random_point(rng, 1e-3);
+        for (Vec3& v : q) v = far + random_point(rng, 1e-3) + Vec3(2e-3, 0, 0);
+      }
+    }
+    const TriangleDistance lanes = query_detail::tri_tri_distance_disjoint_path(p[0], p[1], p[2], q[0], q[1], q[2], true);
+    const TriangleDistance scalar =
+        query_detail::tri_tri_distance_disjoint_path(p[0], p[1], p[2], q[0], q[1], q[2], false);
+    ASSERT_TRUE(same(lanes, scalar)) << k << ": " << lanes.distance << " vs " << scalar.distance;
+    const TriangleDistance swapped =
+        query_detail::tri_tri_distance_disjoint_path(q[0], q[1], q[2], p[0], p[1], p[2], false);
+    ASSERT_EQ(swapped.distance, scalar.distance) << k;
+    ASSERT_EQ(swapped.point_p, scalar.point_q) << k;
+    if (!tri_tri_overlap(p, q)) ASSERT_TRUE(same(tri_tri_distance(p, q), lanes)) << k;
+  }
+  EXPECT_GT(parallel_like, 3000);
 }
 
 TEST(TriDistance, WithinIsTheDistanceComparedToTheMargin) {

@@ -166,6 +166,10 @@ std::vector<EngineInfo> tightbvh_engines() {
           ours("tightbvh-pca", FitMethod::pca),
           ours("tightbvh-approx", FitMethod::approx),
           ours("tightbvh-auto", AutoFit{}),
+          // auto as it was before it searched from the parent's box (each node on its own, approx
+          // from 2048 triangles, thresholds growing above 131,072): for same-run comparisons.
+          ours("tightbvh-auto-unseeded",
+               AutoFit{.tight_min_triangles = 2048, .scale_above = 131072, .search_from_parent = false}),
           cached("tightbvh-approx-qc", FitMethod::approx),
           cached("tightbvh-auto-qc", AutoFit{}),
           exported("fcl-export-pca", FitMethod::pca),

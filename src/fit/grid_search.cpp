@@ -111,6 +111,31 @@ struct TopBoxes {
   std::array<bool, kStarts> from_bopt{};  // false for B*(S) itself (not a Bopt box)
 };
 
+// B*(S) alone, where every search starts.
+TopBoxes only_bstar(const AxisBox& bstar) {
+  TopBoxes top;
+  top.box.fill(bstar);
+  top.volume.fill(std::numeric_limits<double>::infinity());
+  top.volume[0] = bstar.volume();
+  return top;
+}
+
+// Inserts a Bopt box into the sorted list of the `kept` smallest when it is smaller than the last.
+void keep_if_smaller(TopBoxes& top, int kept, const AxisBox& box) {
+  const double volume = box.volume();
+  if (!(volume < top.volume[kept - 1])) return;
+  int at = kept - 1;
+  while (at > 0 && volume < top.volume[at - 1]) {
+    top.volume[at] = top.volume[at - 1];
+    top.box[at] = top.box[at - 1];
+    top.from_bopt[at] = top.from_bopt[at - 1];
+    --at;
+  }
+  top.volume[at] = volume;
+  top.box[at] = box;
+  top.from_bopt[at] = true;
+}
+
 // Bopt(S, {v}) for the primitive directions v of Grid(B*(S)) with L-inf norm <= k, in increasing
 // order of their volume bound (the best boxes come early, and once a bound reaches the kept-th
 // best volume so do all later ones); keeps the `kept` (<= kStarts) smallest boxes.
@@ -120,10 +145,7 @@ TopBoxes scan_grid(const HullGeometry& g, const AxisBox& bstar, const VolumeBoun
   const Vec3 extent = bstar.hi - bstar.lo;
   Mat3 basis;
   for (int j = 0; j < 3; ++j) basis.col(j) = extent[j] * bstar.axes.col(j);
-  TopBoxes top;
-  top.box.fill(bstar);
-  top.volume.fill(std::numeric_limits<double>::infinity());
-  top.volume[0] = bstar.volume();
+  TopBoxes top = only_bstar(bstar);
   const auto& grid = primitive_grid(k);
   auto& order = scratch.grid_order;
   order.clear();
@@ -135,20 +157,7 @@ TopBoxes scan_grid(const HullGeometry& g, const AxisBox& bstar, const VolumeBoun
   for (const auto& [lower, i] : order) {
     if (lower * (1.0 - 1e-9) >= top.volume[kept - 1]) break;
     const Vec3 v = basis * Vec3(grid[i][0], grid[i][1], grid[i][2]);
-    const AxisBox box = bopt(g, v, scratch);
-    const double volume = box.volume();
-    if (!(volume < top.volume[kept - 1])) continue;
-    // Insert into the sorted list of the best boxes.
-    int at = kept - 1;
-    while (at > 0 && volume < top.volume[at - 1]) {
-      top.volume[at] = top.volume[at - 1];
-      top.box[at] = top.box[at - 1];
-      top.from_bopt[at] = top.from_bopt[at - 1];
-      --at;
-    }
-    top.volume[at] = volume;
-    top.box[at] = box;
-    top.from_bopt[at] = true;
+    keep_if_smaller(top, kept, bopt(g, v, scratch));
   }
   return top;
 }
@@ -160,29 +169,8 @@ AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool imp
   // Keep the few best boxes: the local improvement is run from each of them (it converges to
   // local minima, Section 6.5, so a second or third start often lands in a better one).
   const VolumeBound bound(g, bstar);
-  TopBoxes top;
-  if (scan) {
-    top = scan_grid(g, bstar, bound, k, kStarts, scratch);
-  } else {
-    top.box.fill(bstar);
-    top.volume.fill(std::numeric_limits<double>::infinity());
-    top.volume[0] = bstar.volume();
-  }
-  for (const Vec3& v : seeds) {
-    const AxisBox box = bopt(g, v, scratch);
-    const double volume = box.volume();
-    if (!(volume < top.volume[kStarts - 1])) continue;
-    int at = kStarts - 1;
-    while (at > 0 && volume < top.volume[at - 1]) {
-      top.volume[at] = top.volume[at - 1];
-      top.box[at] = top.box[at - 1];
-      top.from_bopt[at] = top.from_bopt[at - 1];
-      --at;
-    }
-    top.volume[at] = volume;
-    top.box[at] = box;
-    top.from_bopt[at] = true;
-  }
+  TopBoxes top = scan ? scan_grid(g, bstar, bound, k, kStarts, scratch) : only_bstar(bstar);
+  for (const Vec3& v : seeds) keep_if_smaller(top, kStarts, bopt(g, v, scratch));
   if (!improve_step) return top.box[0];
   AxisBox best = top.box[0];
   double best_volume = top.volume[0];
@@ -196,18 +184,8 @@ AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool imp
 
 AxisBox quick_grid_search(const HullGeometry& g, const AxisBox& bstar, int k, BoptScratch& scratch,
                           std::span<const Vec3> seeds, bool scan) {
-  TopBoxes top;
-  if (scan) {
-    const VolumeBound bound(g, bstar);
-    top = scan_grid(g, bstar, bound, k, 1, scratch);
-  } else {
-    top.box[0] = bstar;
-    top.volume[0] = bstar.volume();
-  }
-  for (const Vec3& v : seeds) {
-    const AxisBox box = bopt(g, v, scratch);
-    if (box.volume() < top.volume[0]) top.box[0] = box, top.volume[0] = box.volume(), top.from_bopt[0] = true;
-  }
+  TopBoxes top = scan ? scan_grid(g, bstar, VolumeBound(g, bstar), k, 1, scratch) : only_bstar(bstar);
+  for (const Vec3& v : seeds) keep_if_smaller(top, 1, bopt(g, v, scratch));
   return improve(g, top.box[0], scratch, 1e-3, 4, top.from_bopt[0]);
 }
 

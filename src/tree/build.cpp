@@ -1,5 +1,4 @@
 #include "tightbvh/build.hpp"
-#include "../fit/fitters.hpp"
 
 #include <algorithm>
 #include <atomic>

@@ -8,17 +8,11 @@
 #include <immintrin.h>
 
 #include "box_lanes.hpp"
+#include "lanes_avx2.hpp"
 
 namespace tightbvh::query_detail {
 namespace {
 
-struct F64x4 {
-  __m256d v;
-};
-inline F64x4 operator+(F64x4 x, F64x4 y) { return {_mm256_add_pd(x.v, y.v)}; }
-inline F64x4 operator-(F64x4 x, F64x4 y) { return {_mm256_sub_pd(x.v, y.v)}; }
-inline F64x4 operator*(F64x4 x, F64x4 y) { return {_mm256_mul_pd(x.v, y.v)}; }
-inline F64x4 operator/(F64x4 x, F64x4 y) { return {_mm256_div_pd(x.v, y.v)}; }
 inline F64x4 lane_abs(F64x4 x) { return {_mm256_andnot_pd(_mm256_set1_pd(-0.0), x.v)}; }
 inline F64x4 lane_max(F64x4 x, F64x4 y) { return {_mm256_max_pd(x.v, y.v)}; }
 inline F64x4 lane_sqrt(F64x4 x) { return {_mm256_sqrt_pd(x.v)}; }

@@ -8,20 +8,14 @@
 #include <immintrin.h>
 
 #include "tri_lanes.hpp"
+#include "lanes_avx2.hpp"
 
 namespace tightbvh::query_detail {
 namespace {
 
-struct F64x4 {
-  __m256d v;
-};
 struct Mask4 {
   __m256d v;
 };
-inline F64x4 operator+(F64x4 x, F64x4 y) { return {_mm256_add_pd(x.v, y.v)}; }
-inline F64x4 operator-(F64x4 x, F64x4 y) { return {_mm256_sub_pd(x.v, y.v)}; }
-inline F64x4 operator*(F64x4 x, F64x4 y) { return {_mm256_mul_pd(x.v, y.v)}; }
-inline F64x4 operator/(F64x4 x, F64x4 y) { return {_mm256_div_pd(x.v, y.v)}; }
 // Ordered, quiet compares: false on NaN, as the scalar's.
 inline Mask4 tri_lt(F64x4 x, F64x4 y) { return {_mm256_cmp_pd(x.v, y.v, _CMP_LT_OQ)}; }
 inline Mask4 tri_le(F64x4 x, F64x4 y) { return {_mm256_cmp_pd(x.v, y.v, _CMP_LE_OQ)}; }

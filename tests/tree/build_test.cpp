@@ -335,6 +335,44 @@ TEST(BuildOptionsTest, AutoUsesTheMediumFitterBetweenTheThresholds) {
 // triangles) with scale_above = 1,000, thresholds 1000 and 100 become 5558 and 555, so exactly the
 // nodes of [555, 5558) triangles get the medium fitter (marked by axis-aligned boxes) and the
 // root the tight one. Refit follows the same rule (it must give the builder's boxes).
+// AutoFit::search_from_parent: below the root, a normal-bopt node (2-63 triangles) keeps the box
+// along its parent's axes where its Bopt box is larger, so its box is never larger than that one
+// (to the float rounding of the stored boxes); with the search off it falls back on PCA instead,
+// and some nodes' boxes are larger than the box along the parent's axes. Both trees are valid.
+TEST(BuildOptionsTest, AutoSearchesFromTheParentBox) {
+  const Mesh mesh = load_relative("meshes/elephant.off");
+  std::size_t larger_on_its_own = 0;
+  for (const bool from_parent : {true, false}) {
+    SCOPED_TRACE(from_parent ? "from the parent" : "on its own");
+    const Tree tree = build(mesh, with(AutoFit{.search_from_parent = from_parent}));
+    ASSERT_TRUE(validate(tree, mesh).ok());
+    const std::vector<TriangleRange> ranges = triangle_ranges(tree);
+    std::vector<std::uint32_t> parent(tree.nodes.size(), 0);
+    for (std::size_t i = 0; i < tree.nodes.size(); ++i)
+      if (!tree.nodes[i].is_leaf()) parent[tree.nodes[i].first] = parent[tree.nodes[i].first + 1] = static_cast<std::uint32_t>(i);
+    std::size_t checked = 0;
+    for (std::size_t i = 1; i < tree.nodes.size(); ++i) {
+      const std::size_t n = ranges[i].size();
+      if (n < 2 || n >= 64) continue;
+      std::vector<Vec3> corners;
+      for (std::size_t p = ranges[i].begin; p < ranges[i].end; ++p)
+        for (const std::uint32_t v : mesh.triangles[tree.triangle_order[p]]) corners.push_back(mesh.vertices[v]);
+      const double along_parent =
+          fit_detail::box_with_axes(corners, tree.nodes[parent[i]].box.axes_d(), corners.front()).volume();
+      const double volume = tree.nodes[i].box.volume();
+      // The stored box is rounded outward to floats (axes to ~6e-8, so each extent may grow by
+      // ~1e-7 of the largest): slack for a growth of 1e-6 of the largest extent on every side.
+      const Vec3 h = tree.nodes[i].box.half_extents_d();
+      const double slack = 8.0 * (h.x() * h.y() + h.y() * h.z() + h.x() * h.z()) * 2e-6 * h.maxCoeff();
+      ++checked;
+      if (from_parent) EXPECT_LE(volume, along_parent + slack) << "node " << i << ", " << n << " triangles";
+      else larger_on_its_own += volume > along_parent + slack;
+    }
+    EXPECT_GT(checked, 500u);
+  }
+  EXPECT_GT(larger_on_its_own, 0u);
+}
+
 TEST(BuildOptionsTest, AutoScalesItsThresholdsWithTheMesh) {
   const Mesh mesh = load_relative("meshes/elephant.off");
   ASSERT_EQ(mesh.triangles.size(), 5558u);

@@ -21,6 +21,7 @@ enum class FitMethod {
   eberly2015,   // Eberly 2015: face-flush and orthogonal-edge-triple boxes (misses some minima)
   approx_kernel,  // approx's grid scan on an extreme-point kernel of the set (O(n), see fit.cpp)
   normal_bopt,    // Bopt along the triangles' area-weighted normal (one rotating-calipers pass, see fit.cpp)
+  dito,           // DiTO-14, Larsson & Källberg 2011: frames of a ditetrahedron of extreme points (O(n), dito.cpp)
 };
 
 struct FitOptions {
@@ -33,7 +34,7 @@ struct FitOptions {
 // The one table of method names (fit.cpp): parsing, printing, listing and help texts use it.
 [[nodiscard]] std::optional<FitMethod> parse_fit_method(std::string_view name);
 [[nodiscard]] std::string_view to_string(FitMethod method);
-// Every method, in declaration order ("aabb", "pca", "pca-vertex", ..., "eberly2015", "approx-kernel", "normal-bopt").
+// Every method, in declaration order ("aabb", "pca", "pca-vertex", ..., "eberly2015", "approx-kernel", "normal-bopt", "dito").
 [[nodiscard]] std::span<const FitMethod> all_fit_methods();
 [[nodiscard]] std::span<const std::string_view> fit_method_names();  // same order
 

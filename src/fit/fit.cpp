@@ -7,6 +7,7 @@
 #include <string>
 
 #include "fitters.hpp"
+#include "dito.hpp"
 #include "frame.hpp"
 #include "kernel_extremes.hpp"
 #include "pca.hpp"
@@ -24,7 +25,7 @@
 namespace tightbvh {
 namespace {
 
-constexpr detail::NameTable<FitMethod, 10> kNames({{
+constexpr detail::NameTable<FitMethod, 11> kNames({{
     {FitMethod::aabb, "aabb"},
     {FitMethod::pca, "pca"},
     {FitMethod::pca_vertex, "pca-vertex"},
@@ -35,6 +36,7 @@ constexpr detail::NameTable<FitMethod, 10> kNames({{
     {FitMethod::eberly2015, "eberly2015"},
     {FitMethod::approx_kernel, "approx-kernel"},
     {FitMethod::normal_bopt, "normal-bopt"},
+    {FitMethod::dito, "dito"},
 }});
 
 // approx-snap's default epsilon when none is given.
@@ -351,6 +353,7 @@ Obb fit_checked(std::span<const Vec3> points, const FitOptions& options, FitWork
   auto& s = workspace.scratch();
   s.last_hull_vertices = 0;
   if (options.method == FitMethod::aabb) return to_obb(bounds_of(points));
+  if (options.method == FitMethod::dito) return dito_box(points);  // no hull
   const Vec3 origin = local_origin(points);
   // Hull-based methods.
   if ((options.method == FitMethod::approx || options.method == FitMethod::diameter) &&

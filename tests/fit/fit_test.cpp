@@ -17,7 +17,7 @@ using test::valid_box_containing;
 
 const FitMethod kAll[] = {FitMethod::aabb,   FitMethod::pca,         FitMethod::pca_vertex, FitMethod::diameter,
                           FitMethod::approx, FitMethod::approx_snap, FitMethod::exact,
-                          FitMethod::eberly2015, FitMethod::approx_kernel, FitMethod::normal_bopt};
+                          FitMethod::eberly2015, FitMethod::approx_kernel, FitMethod::normal_bopt, FitMethod::dito};
 
 double volume_of(std::span<const Vec3> points, FitMethod m, const FitOptions& base = {}) {
   FitOptions o = base;

@@ -8,7 +8,7 @@ import tightbvh
 from conftest import tetrahedron
 
 BOX_METHODS = ["aabb", "pca", "pca-vertex", "diameter", "approx", "approx-snap", "exact", "eberly2015",
-               "approx-kernel", "normal-bopt"]
+               "approx-kernel", "normal-bopt", "dito"]
 CONTAINERS = ["ball", "fast-ball", "ellipsoid", "diamond", "dop14", "dop18", "dop26"]
 
 

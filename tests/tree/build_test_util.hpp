@@ -15,7 +15,7 @@ namespace tightbvh::test {
 
 inline constexpr FitMethod kAllMethods[] = {FitMethod::aabb,   FitMethod::pca,         FitMethod::pca_vertex,
                                             FitMethod::diameter, FitMethod::approx, FitMethod::approx_snap,
-                                            FitMethod::exact,  FitMethod::eberly2015, FitMethod::approx_kernel, FitMethod::normal_bopt};
+                                            FitMethod::exact,  FitMethod::eberly2015, FitMethod::approx_kernel, FitMethod::normal_bopt, FitMethod::dito};
 
 // The fitters land one by one (fit branch): a method is available when it fits a tetrahedron.
 inline bool available(FitMethod method) {

@@ -34,7 +34,7 @@ bool full_sweep() {
 
 constexpr FitMethod kMethods[] = {FitMethod::aabb,   FitMethod::pca,         FitMethod::pca_vertex, FitMethod::diameter,
                                   FitMethod::approx, FitMethod::approx_snap, FitMethod::exact,
-                                  FitMethod::eberly2015, FitMethod::approx_kernel, FitMethod::normal_bopt};
+                                  FitMethod::eberly2015, FitMethod::approx_kernel, FitMethod::normal_bopt, FitMethod::dito};
 
 // The triangle corners below each node.
 std::vector<std::vector<Vec3>> node_corners(const Tree& tree, const Mesh& mesh) {

@@ -38,10 +38,8 @@ Mat3 frame_from_edge(const Vec3& edge, const Vec3& normal) {
   return frame;
 }
 
-// The box of `points` (relative to the origin) in `frame`: its volume, plus 1e-9 times its half
-// surface area times `length` (the set's scale, the same for every frame). The second term breaks
-// the ties between flat boxes, whose volumes are rounding noise, by area; on a solid box it is
-// negligible.
+// The size of the box of `points` (relative to the origin) in `frame`, as smaller_box measures it
+// (volume, and area between flat boxes), `length` the set's scale (the same for every frame).
 double score(std::span<const Vec3> points, const Mat3& frame, double length) {
   const Mat3 rt = frame.transpose();
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
@@ -50,8 +48,7 @@ double score(std::span<const Vec3> points, const Mat3& frame, double length) {
     lo = lo.cwiseMin(q);
     hi = hi.cwiseMax(q);
   }
-  const Vec3 d = hi - lo;
-  return d.prod() + 1e-9 * (d.x() * d.y() + d.y() * d.z() + d.z() * d.x()) * length;
+  return box_size_score(hi - lo, length);
 }
 
 }  // namespace

@@ -300,7 +300,7 @@ Obb fit_kernel(std::span<const Vec3> points, std::span<const Vec3> triangle_corn
     best = quick_grid_search(s.geometry, lemma_box(s.geometry, s.bopt), 1, s.bopt, seeds, scan);
   }
   const Obb box = box_with_axes(points, orthonormalize(best.axes), origin);
-  return box.volume() < pca.volume() ? box : pca;
+  return smaller_box(box, pca) ? box : pca;
 }
 
 // normal-bopt: Bopt(S, {n}) of Barequet & Har-Peled (Section 6.3) for one direction n, the
@@ -342,7 +342,7 @@ Obb fit_normal_bopt(std::span<const Vec3> points, std::span<const Vec3> triangle
   box.axes = best.axes;
   box.half_extents = 0.5 * (best.hi - best.lo);
   box.center = pca.center + best.axes * (0.5 * (best.hi + best.lo));
-  return box.volume() < pca.volume() ? box : pca;
+  return smaller_box(box, pca) ? box : pca;
 }
 
 // Every method but pca and pca-vertex (fit_points and fit_triangles send those to fit_pca), on

@@ -42,6 +42,11 @@ Mat3 orthonormalize(const Mat3& axes) {
   return out;
 }
 
+bool smaller_box(const Obb& a, const Obb& b) {
+  const double length = std::max(a.half_extents.sum(), b.half_extents.sum());
+  return box_size_score(a.half_extents, length) < box_size_score(b.half_extents, length);
+}
+
 Vec3 local_origin(std::span<const Vec3> points) { return bounds_of(points).center(); }
 
 Obb box_with_axes(std::span<const Vec3> points, const Mat3& axes, const Vec3& origin) {

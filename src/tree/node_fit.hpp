@@ -143,7 +143,7 @@ template <class Vertices>
     // nodes with a near-isotropic covariance where the PCA axes are arbitrary). The fit above has
     // checked the points, and the distinct vertices have the corners' bounds at a sixth of the
     // reads: the same box as fit_triangles(corners, aabb) without its finiteness pass.
-    if (const Obb aabb = to_obb(bounds_of(distinct.empty() ? corners : distinct)); aabb.volume() < box.volume())
+    if (const Obb aabb = to_obb(bounds_of(distinct.empty() ? corners : distinct)); fit_detail::smaller_box(aabb, box))
       box = aabb;
   }
   return box;

@@ -6,6 +6,8 @@
 #include <cstring>
 
 #include "build_test_util.hpp"
+#include "tightbvh/hull.hpp"
+#include "tightbvh/min_rect.hpp"
 #include "tightbvh/refit.hpp"
 #include "tightbvh/serialize.hpp"
 #include "tightbvh/validate_tree.hpp"
@@ -371,6 +373,53 @@ TEST(BuildOptionsTest, AutoSearchesFromTheParentBox) {
     EXPECT_GT(checked, 500u);
   }
   EXPECT_GT(larger_on_its_own, 0u);
+}
+
+// A flat part (CAD meshes have them): a grid of triangles in the plane z = 0, turned 30 degrees
+// about z. Every box in the plane has a volume of rounding noise, and the axis-aligned box
+// exactly zero, so comparing volumes alone kept the AABB (or, in normal-bopt, the fallback box)
+// over the minimum-area rectangle. Boxes of flat sets are compared by area (smaller_box): no node
+// keeps a box of larger area than its AABB's, and the small (normal-bopt) nodes get their
+// minimum-area rectangle.
+TEST(BuildOptionsTest, AutoGivesFlatNodesTheirSmallestRectangle) {
+  Mesh mesh;
+  constexpr int kCells = 12;
+  const double c = std::cos(0.5235987755982988), s = std::sin(0.5235987755982988);
+  for (int i = 0; i <= kCells; ++i)
+    for (int j = 0; j <= kCells; ++j) mesh.vertices.emplace_back(c * i - s * j * 0.7, s * i + c * j * 0.7, 0.0);
+  const auto at = [](int i, int j) { return static_cast<std::uint32_t>(i * (kCells + 1) + j); };
+  for (int i = 0; i < kCells; ++i)
+    for (int j = 0; j < kCells; ++j) {
+      mesh.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      mesh.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  const Tree tree = build(mesh, with(AutoFit{}));
+  ASSERT_TRUE(validate(tree, mesh).ok());
+  const std::vector<TriangleRange> ranges = triangle_ranges(tree);
+  std::size_t small = 0;
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+    std::vector<Vec2> points;
+    Aabb bounds;
+    for (std::size_t p = ranges[i].begin; p < ranges[i].end; ++p)
+      for (const std::uint32_t v : mesh.triangles[tree.triangle_order[p]]) {
+        points.emplace_back(mesh.vertices[v].x(), mesh.vertices[v].y());
+        bounds.extend(mesh.vertices[v]);
+      }
+    const Vec3 h = tree.nodes[i].box.half_extents_d();
+    std::array<double, 3> e = {2 * h.x(), 2 * h.y(), 2 * h.z()};
+    std::sort(e.begin(), e.end());
+    ASSERT_LE(e[0], 1e-6 * e[2]) << "node " << i;  // flat (to the float rounding of its axes)
+    const double area = e[1] * e[2];
+    const Vec3 d = bounds.max - bounds.min;
+    // Slack for the float rounding of the stored box (extents grow by ~1e-7 of the largest).
+    const double slack = 4e-6 * e[2] * e[2];
+    EXPECT_LE(area, d.x() * d.y() + slack) << "node " << i;
+    if (ranges[i].size() < 2 || ranges[i].size() >= 64) continue;
+    ++small;
+    const Rect2 want = min_area_rect(std::span<const Vec2>(points.data(), convex_hull_2d(points)));
+    EXPECT_LE(area, want.area() + slack) << "node " << i << ", " << ranges[i].size() << " triangles";
+  }
+  EXPECT_GT(small, 10u);
 }
 
 TEST(BuildOptionsTest, AutoScalesItsThresholdsWithTheMesh) {

@@ -170,8 +170,9 @@ Walk traverse_pairs(const Tree& ta, const Tree& tb, DescendRule rule, PairStack&
 // end of the walk). So a stopped walk counts no test that traverse_pairs would not have made, and
 // first_hit no longer pushes and pops its culled pairs (it did to count them at the pop: 4-13%
 // of its time, README "Splitting both nodes"). Pushes branch on each outcome: a branch-free push
-// (write the slot, advance by the outcome) was 3-10% faster in all_pairs near contact and in
-// overlap but 5-10% slower in separated scenarios, where nearly every outcome is "culled".
+// (write the slot, advance by the outcome) was 4-10% faster in all_pairs near contact and in
+// overlap but 5-10% slower in separated scenarios, where nearly every outcome is "culled" and
+// predicted, so the next pop runs ahead of the box test; branch-free, its address waits for it.
 template <class NodeTest, class ChildrenA, class ChildrenB, class ChildrenBoth, class LeafPair>
 Walk traverse_pairs_tested(const Tree& ta, const Tree& tb, DescendRule rule, TestedPairStack& stack,
                            std::uint64_t& box_tests, NodeTest&& test, ChildrenA&& test_children_a,

@@ -26,10 +26,11 @@ struct NodePair {
 };
 
 // A node pair whose box test passed when its split made it (traverse_pairs_tested), with the
-// number of culled pairs that traverse_pairs would have popped, and counted, right before it.
+// number of culled pairs that traverse_pairs would have popped, and counted, right before it
+// (64 bits: the pair under a large subtree collects that subtree's trailing culled pairs).
 struct TestedPair {
   std::uint32_t a, b;
-  std::uint32_t culled_before;
+  std::uint64_t culled_before;
 };
 
 // Explicit traversal stack: a fixed inline buffer, spilling to the heap only for very deep trees.
@@ -164,7 +165,8 @@ Walk traverse_pairs(const Tree& ta, const Tree& tb, DescendRule rule, PairStack&
 // both_children's order);
 // test(a, b) tests the root pair. The pairs are visited in traverse_pairs' order, and `box_tests`
 // counts what traverse_pairs' test would have counted, also when `leaves` stops the walk (first
-// hit): only the pairs that overlap are pushed, and a culled pair is counted when the overlapping
+// hit, CanStop): only the pairs that overlap are pushed. A walk that cannot stop counts every test
+// when it makes it; one that can stop counts a culled pair when the overlapping
 // pair that traverse_pairs would pop next after it is popped (that pair's culled_before; a split's
 // culled pairs after its last overlapping one go to the pair under them on the stack, or to the
 // end of the walk). So a stopped walk counts no test that traverse_pairs would not have made, and
@@ -173,7 +175,7 @@ Walk traverse_pairs(const Tree& ta, const Tree& tb, DescendRule rule, PairStack&
 // (write the slot, advance by the outcome) was 4-10% faster in all_pairs near contact and in
 // overlap but 5-10% slower in separated scenarios, where nearly every outcome is "culled" and
 // predicted, so the next pop runs ahead of the box test; branch-free, its address waits for it.
-template <class NodeTest, class ChildrenA, class ChildrenB, class ChildrenBoth, class LeafPair>
+template <bool CanStop, class NodeTest, class ChildrenA, class ChildrenB, class ChildrenBoth, class LeafPair>
 Walk traverse_pairs_tested(const Tree& ta, const Tree& tb, DescendRule rule, TestedPairStack& stack,
                            std::uint64_t& box_tests, NodeTest&& test, ChildrenA&& test_children_a,
                            ChildrenB&& test_children_b, ChildrenBoth&& test_children_both, LeafPair&& leaves) {
@@ -182,11 +184,18 @@ Walk traverse_pairs_tested(const Tree& ta, const Tree& tb, DescendRule rule, Tes
     ++box_tests;
     return Walk::go_on;
   }
-  stack.push({0, 0, 0});  // counted when popped
+  if constexpr (!CanStop) ++box_tests;
+  stack.push({0, 0, 0});  // first hit: counted when popped
   std::uint64_t after_last = 0;  // culled pairs after every pair on the stack
   // Pushes kids[0..n) in reverse (kids[0] is popped first), those that overlap only.
   const auto push_overlapping = [&](const TestedPair* kids, const bool* overlap, int n) {
-    std::uint32_t trailing = 0;  // culled since the last overlapping kid
+    if constexpr (!CanStop) {
+      box_tests += static_cast<std::uint64_t>(n);  // every pushed pair is popped: count them now
+      for (int k = n - 1; k >= 0; --k)
+        if (overlap[k]) stack.push(kids[k]);
+      return;
+    }
+    std::uint64_t trailing = 0;  // culled since the last overlapping kid
     TestedPair entry[4];
     for (int k = 0; k < n; ++k) {
       entry[k] = {kids[k].a, kids[k].b, trailing};
@@ -203,7 +212,7 @@ Walk traverse_pairs_tested(const Tree& ta, const Tree& tb, DescendRule rule, Tes
   };
   while (!stack.empty()) {
     const TestedPair np = stack.pop();
-    box_tests += 1 + std::uint64_t{np.culled_before};
+    if constexpr (CanStop) box_tests += 1 + np.culled_before;
     const Node& na = ta.nodes[np.a];
     const Node& nb = tb.nodes[np.b];
     if (na.is_leaf() && nb.is_leaf()) {

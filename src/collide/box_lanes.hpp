@@ -6,6 +6,7 @@
 // machine. box_test.hpp loads boxes into lanes and instantiates them for one double and for
 // two (SSE2); box_bounds_avx2.cpp for four (AVX2).
 #include <cmath>
+#include <type_traits>
 
 namespace tightbvh::query_detail {
 
@@ -63,9 +64,13 @@ template <class V>
 }
 
 // box_separated: the lanes whose boxes some axis separates by more than `margin` (obb_overlap()'s
-// negation, lane by lane). Stops at the first axis after which every lane is separated.
+// negation, lane by lane). Stops once every lane is separated: the one-pair test (M = bool) checks
+// after each axis; lanes check after A's three face axes, B's three and each three edge axes,
+// since with several lanes an early stop is rare and each check is a branch that mispredicts.
+// Where it stops does not change the result (more axes only add separated lanes to a full mask).
 template <class V, class M>
 [[nodiscard]] inline M box_separated(const LaneBox<V>& a, const LaneBox<V>& b, V margin, V eps) {
+  constexpr bool kEachAxis = std::is_same_v<M, bool>;
   V r[3][3], abs_r[3][3], t[3];
   lane_relative_frame(a, b, r, t);
   const V* ea = a.half;
@@ -79,21 +84,21 @@ template <class V, class M>
     const V rb = eb[0] * abs_r[i][0] + eb[1] * abs_r[i][1] + eb[2] * abs_r[i][2];
     const M s = lane_gt(lane_abs(t[i]), ea[i] + rb + margin);
     sep = i == 0 ? s : M(sep | s);
-    if (all_lanes(sep)) return sep;
+    if ((kEachAxis || i == 2) && all_lanes(sep)) return sep;
   }
   // B's face normals.
   for (int j = 0; j < 3; ++j) {
     const V ra = ea[0] * abs_r[0][j] + ea[1] * abs_r[1][j] + ea[2] * abs_r[2][j];
     const V tj = t[0] * r[0][j] + t[1] * r[1][j] + t[2] * r[2][j];
     sep = sep | lane_gt(lane_abs(tj), ra + eb[j] + margin);
-    if (all_lanes(sep)) return sep;
+    if ((kEachAxis || j == 2) && all_lanes(sep)) return sep;
   }
   // Edge-edge axes A_i x B_j.
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
       const EdgeAxis<V> e = edge_axis(ea, eb, r, abs_r, t, i, j);
       sep = sep | lane_gt(lane_abs(e.t), e.ra + e.rb + margin);
-      if (all_lanes(sep)) return sep;
+      if ((kEachAxis || j == 2) && all_lanes(sep)) return sep;
     }
   return sep;
 }

@@ -24,13 +24,13 @@ namespace {
 using query_detail::map_point;
 
 // The batched box tests of collide_trees for a walk that can use them (traverse_pairs_tested).
-template <class One, class ChildrenA, class ChildrenB, class ChildrenBoth>
+template <bool FirstHit, class One, class ChildrenA, class ChildrenB, class ChildrenBoth>
 struct BatchedTests {
+  static constexpr bool first_hit = FirstHit;
   One& one;
   ChildrenA& children_a;
   ChildrenB& children_b;
   ChildrenBoth& children_both;
-  bool can_stop;  // first_hit
   std::uint64_t& box_tests;
 };
 
@@ -102,7 +102,8 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
     return Walk::go_on;
   };
   walk(boxes_overlap, triangles_touch,
-       BatchedTests{node_overlaps, children_of_a, children_of_b, children_both, FirstHit, box_tests});
+       BatchedTests<FirstHit, decltype(node_overlaps), decltype(children_of_a), decltype(children_of_b),
+                    decltype(children_both)>{node_overlaps, children_of_a, children_of_b, children_both, box_tests});
   result.stats.box_tests += box_tests;
   result.stats.triangle_tests += triangle_tests;
 }
@@ -170,7 +171,7 @@ QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b
   return collide_with(
       a, ma, pa, b, mb, pb, options, ws, [] {},
       [&](auto&, auto& leaves, auto batched) {
-        query_detail::traverse_pairs_tested(a, b, options.descend, ws.tested_stack, batched.can_stop, batched.box_tests,
+        query_detail::traverse_pairs_tested<decltype(batched)::first_hit>(a, b, options.descend, ws.tested_stack, batched.box_tests,
                                             batched.one,
                                             batched.children_a, batched.children_b, batched.children_both, leaves);
       });

@@ -1,4 +1,5 @@
 #include "tightbvh/collide.hpp"
+#include "tightbvh/collide_trace.hpp"
 
 #include <gtest/gtest.h>
 
@@ -344,6 +345,15 @@ TEST(CollideEdgeCases, VeryDeepTreeSpillsTheStack) {
       collide(tree, strip, Pose::identity(), tree, strip, shifted, {.mode = QueryMode::all_pairs}, workspace);
   EXPECT_EQ(again.pairs, reference.pairs);
   EXPECT_EQ(again.stats, r.stats);
+  // The counts of a spilled walk, which counts culled pairs at the next pop (also on the heap
+  // part of the stack), are the one-pair descent's, stopped or not.
+  for (const QueryMode mode : {QueryMode::first_hit, QueryMode::all_pairs})
+    for (const Pose& pose : {shifted, Pose{Mat3::Identity(), Vec3(0.005, 0.9, 0.0005)}}) {
+      const QueryResult q = collide(tree, strip, Pose::identity(), tree, strip, pose, {.mode = mode}, workspace);
+      const CollideTrace trace = collide_trace(tree, strip, Pose::identity(), tree, strip, pose, {.mode = mode});
+      EXPECT_EQ(q.stats, trace.result.stats);
+      EXPECT_EQ(q.pairs, trace.result.pairs);
+    }
 }
 
 TEST(CollideEdgeCases, EmptyTreesMismatchedMeshesAndRelativePose) {

@@ -96,12 +96,13 @@ bool push_convex(std::vector<Vec2>& poly, const Vec2& q) {
 
 }  // namespace
 
-bool silhouette_cycle(const HullGeometry& g, const Vec3& a, const Vec3& u, const Vec3& w, BoptScratch& s) {
+namespace {
+
+// The silhouette's vertices in cycle order into s.cycle, by classifying every face and edge:
+// O(F + E). False when the boundary of the front faces is not one cycle.
+bool cycle_by_edges(const HullGeometry& g, const Vec3& a, BoptScratch& s) {
   const ConvexHull3& hull = *g.hull;
   const std::size_t nf = hull.faces.size();
-  // A face is front when it faces +a strictly; coplanar triangles share one normal, so a facet
-  // is never split. In exact arithmetic the front faces form a disk whose boundary projects
-  // one to one onto the boundary of the projected hull (Section 6.3's Bopt needs only that).
   s.front.resize(nf);
   for (std::size_t f = 0; f < nf; ++f) s.front[f] = a.dot(hull.face_normals[f]) > 0.0 ? 1 : 0;
   next_epoch(g, s);
@@ -121,16 +122,85 @@ bool silhouette_cycle(const HullGeometry& g, const Vec3& a, const Vec3& u, const
     ++count;
   }
   if (count < 3) return false;
-  auto& poly = s.projected;
-  poly.clear();
+  s.cycle.clear();
   std::uint32_t v = start;
   for (std::size_t step = 0; step < count; ++step) {
     if (s.stamp[v] != s.epoch || (step > 0 && v == start)) return false;  // not one cycle through all edges
-    const Vec3& p = g.local[v];
-    if (!push_convex(poly, Vec2(u.dot(p), w.dot(p)))) return false;
+    s.cycle.push_back(v);
     v = s.next[v];
   }
-  if (v != start) return false;
+  return v == start;
+}
+
+// The same cycle by walking it on the face adjacency (g.face_adjacent): from the vertex farthest
+// along u (its projection is on the outline, so it is on the silhouette), each next silhouette
+// edge is found by turning around the current end vertex through the front faces. O(m d) for m
+// silhouette vertices of degree d, instead of O(F + E). The faces are classified as in
+// cycle_by_edges (the same expression), so the cycle is the same; unlike the edge pass the walk
+// cannot see a second loop through a pinched vertex, which only rounding of faces seen edge on
+// makes (their projections have no area, so the outline loses nothing of note).
+bool cycle_by_walk(const HullGeometry& g, const Vec3& a, const Vec3& u, BoptScratch& s) {
+  const ConvexHull3& hull = *g.hull;
+  const auto front = [&](std::uint32_t f) { return a.dot(hull.face_normals[f]) > 0.0; };
+  std::uint32_t start = 0;
+  double best = u.dot(g.local[0]);
+  for (std::uint32_t i = 1; i < g.local.size(); ++i) {
+    const double t = u.dot(g.local[i]);
+    if (t > best) best = t, start = i;
+  }
+  const auto position = [&](std::uint32_t f, std::uint32_t v) {
+    const auto& fv = hull.faces[f];
+    return fv[0] == v ? 0u : fv[1] == v ? 1u : 2u;
+  };
+  constexpr int kMaxTurn = 256;
+  // The silhouette edge leaving `start`: turn around it until a front face has a non-front face
+  // across its edge that leaves `start` (slot: the edge from vertex slot + 1 to slot + 2).
+  std::uint32_t f = g.vertex_face[start];
+  std::uint32_t slot = (position(f, start) + 2) % 3;
+  bool found = false;
+  for (int turn = 0; turn < kMaxTurn && !found; ++turn) {
+    const std::uint32_t across = g.face_adjacent[f][slot];
+    if (front(f) && !front(across)) {
+      found = true;
+      break;
+    }
+    f = across;
+    slot = (position(f, start) + 2) % 3;
+  }
+  if (!found) return false;
+  s.cycle.clear();
+  for (std::size_t step = 0; step <= g.local.size(); ++step) {
+    s.cycle.push_back(hull.faces[f][(slot + 1) % 3]);
+    const std::uint32_t t = hull.faces[f][(slot + 2) % 3];
+    if (t == start) return s.cycle.size() >= 3;
+    // The next silhouette edge leaves t: from the edge of f that leaves t, turn through front faces.
+    slot = (slot + 1) % 3;
+    int turn = 0;
+    for (; turn < kMaxTurn; ++turn) {
+      const std::uint32_t across = g.face_adjacent[f][slot];
+      if (!front(across)) break;
+      f = across;
+      slot = (position(f, t) + 2) % 3;
+    }
+    if (turn == kMaxTurn) return false;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool silhouette_cycle(const HullGeometry& g, const Vec3& a, const Vec3& u, const Vec3& w, BoptScratch& s) {
+  // A face is front when it faces +a strictly; coplanar triangles share one normal, so a facet
+  // is never split. In exact arithmetic the front faces form a disk whose boundary projects
+  // one to one onto the boundary of the projected hull (Section 6.3's Bopt needs only that).
+  const bool walk = !g.face_adjacent.empty();
+  if (!(walk ? cycle_by_walk(g, a, u, s) : cycle_by_edges(g, a, s))) return false;
+  auto& poly = s.projected;
+  poly.clear();
+  for (const std::uint32_t v : s.cycle) {
+    const Vec3& p = g.local[v];
+    if (!push_convex(poly, Vec2(u.dot(p), w.dot(p)))) return false;
+  }
   // Close the cycle: its first point may repeat the last or lie on the line of its neighbours.
   if (poly.size() >= 2 && poly.back() == poly.front()) poly.pop_back();
   for (;;) {

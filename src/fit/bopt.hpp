@@ -18,6 +18,7 @@ struct BoptScratch {
   std::vector<double> face_dot;
   std::vector<std::uint8_t> front;     // silhouette_cycle: by face, whether it faces +v
   std::vector<std::uint32_t> next;     // silhouette_cycle: by vertex, the next one on the cycle
+  std::vector<std::uint32_t> cycle;    // silhouette_cycle: the silhouette's vertices in order
   std::uint32_t epoch = 0;
   std::size_t calls = 0;
   std::size_t sorted_silhouettes = 0;  // Bopt calls that fell back to sorting the silhouette
@@ -33,7 +34,8 @@ struct BoptScratch {
 // convex_hull_2d would make of the projected hull vertices (counter-clockwise from the
 // lexicographically smallest point, no collinear points). The edges between the faces facing +a
 // and the others form one cycle, which the hull's edge list gives in order, so no sort is
-// needed: O(F + E). False when rounding in the face classification breaks that cycle (a vertex
+// needed: O(F + E); on hulls with a face adjacency (HullGeometry::kWalkFaces) the cycle is walked
+// on it instead, O(m d) for m silhouette vertices of degree d. False when rounding in the face classification breaks that cycle (a vertex
 // with two outgoing silhouette edges, a right turn, a polygon wound twice): then nothing is
 // promised about scratch.projected, and bopt() sorts the silhouette's points instead.
 [[nodiscard]] bool silhouette_cycle(const HullGeometry& g, const Vec3& a, const Vec3& u, const Vec3& w,

@@ -21,6 +21,7 @@ struct CycleCounts {
   std::size_t directions = 0;
   std::size_t walked = 0;     // directions where silhouette_cycle succeeded
   std::size_t identical = 0;  // ... and gave the sorted polygon point for point
+  std::size_t on_adjacency = 0;  // directions on hulls whose cycle is walked on the face adjacency
 };
 
 // Directions that meet the degenerate cases: random ones, the coordinate axes and the grid
@@ -54,6 +55,7 @@ void expect_cycle_matches_sorting(std::span<const Vec3> points, std::uint64_t se
     const Vec3 a = frame.col(0), u = frame.col(1), w = frame.col(2);
     const std::size_t m = fit_detail::silhouette_sorted(g, a, u, w, sort);
     ++counts.directions;
+    counts.on_adjacency += !g.face_adjacent.empty();
     if (!fit_detail::silhouette_cycle(g, a, u, w, walk)) continue;
     ++counts.walked;
     const auto& poly = walk.projected;
@@ -134,6 +136,7 @@ TEST(BoptSilhouette, CycleWalkGivesTheSortedPolygonOnTreeNodes) {
     }
   }
   EXPECT_GT(counts.directions, 10000u);
+  EXPECT_GT(counts.on_adjacency, 5000u);  // both ways of finding the cycle are compared
   EXPECT_GT(counts.walked, counts.directions * 9 / 10) << counts.walked << " of " << counts.directions;
   EXPECT_GT(counts.identical, counts.walked * 9 / 10) << counts.identical << " of " << counts.walked;
   std::printf("tree nodes: %zu directions, %zu walked, %zu identical\n", counts.directions, counts.walked, counts.identical);

@@ -16,14 +16,35 @@ struct BoptScratch {
   std::vector<Vec2> chain;  // convex_hull_2d's scratch
   std::vector<std::uint32_t> stamp;
   std::vector<double> face_dot;
+  std::vector<std::uint8_t> front;     // silhouette_cycle: by face, whether it faces +v
+  std::vector<std::uint32_t> next;     // silhouette_cycle: by vertex, the next one on the cycle
+  std::vector<std::uint32_t> cycle;    // silhouette_cycle: the silhouette's vertices in order
   std::uint32_t epoch = 0;
   std::size_t calls = 0;
+  std::size_t sorted_silhouettes = 0;  // Bopt calls that fell back to sorting the silhouette
   std::vector<std::pair<double, std::uint32_t>> grid_order;  // grid_search: (bound, direction)
   std::vector<Vec2> plane;  // lemma_box: the points projected onto the plane orthogonal to st
 };
 
 // Bopt(S, {v}) for the solid hull `g` (v need not be unit; a zero v gives an infinite box).
 [[nodiscard]] AxisBox bopt(const HullGeometry& g, const Vec3& v, BoptScratch& scratch);
+
+// The silhouette of the solid hull `g` seen along a (unit; (a, u, w) right-handed, as
+// frame_from_axis gives), projected onto (u, w), into scratch.projected: the convex polygon
+// convex_hull_2d would make of the projected hull vertices (counter-clockwise from the
+// lexicographically smallest point, no collinear points). The edges between the faces facing +a
+// and the others form one cycle, which the hull's edge list gives in order, so no sort is
+// needed: O(F + E); on hulls with a face adjacency (HullGeometry::kWalkFaces) the cycle is walked
+// on it instead, O(m d) for m silhouette vertices of degree d. False when rounding in the face classification breaks that cycle (a vertex
+// with two outgoing silhouette edges, a right turn, a polygon wound twice): then nothing is
+// promised about scratch.projected, and bopt() sorts the silhouette's points instead.
+[[nodiscard]] bool silhouette_cycle(const HullGeometry& g, const Vec3& a, const Vec3& u, const Vec3& w,
+                                    BoptScratch& scratch);
+// The same polygon by the sorting path (bopt()'s fallback): the vertices of every edge between
+// faces facing +a and -a (with a tolerance for faces parallel to a), projected, then
+// convex_hull_2d. Returns the number of polygon points at the front of scratch.projected.
+[[nodiscard]] std::size_t silhouette_sorted(const HullGeometry& g, const Vec3& a, const Vec3& u, const Vec3& w,
+                                            BoptScratch& scratch);
 
 // Bopt(S, {v}) of the points themselves (no hull: every point projected), relative to `origin`:
 // the box of bopt() on a HullGeometry reset_points(points, origin), without the copy; sets of at

@@ -96,7 +96,7 @@ bool distinct_small(std::span<const Vec3> points, std::size_t limit, std::vector
 // (near the set, so far-away sets keep their precision). The finiteness check rides on the
 // extents pass: only when something is not finite is the input scanned for the bad point.
 Obb fit_checked(std::span<const Vec3> points, const FitOptions& options, FitWorkspace& workspace,
-                std::span<const Vec3> seeds = {});
+                std::span<const Vec3> seeds = {}, fit_detail::Extras extras = fit_detail::Extras::full);
 
 // `given`: the PCA axes when the caller already has them (a tree node's, from its moments).
 Obb fit_pca(std::span<const Vec3> points, std::span<const Vec3> triangle_corners, const Mat3* given = nullptr) {
@@ -348,7 +348,7 @@ Obb fit_normal_bopt(std::span<const Vec3> points, std::span<const Vec3> triangle
 // Every method but pca and pca-vertex (fit_points and fit_triangles send those to fit_pca), on
 // finite points.
 Obb fit_checked(std::span<const Vec3> points, const FitOptions& options, FitWorkspace& workspace,
-                std::span<const Vec3> seeds) {
+                std::span<const Vec3> seeds, fit_detail::Extras extras) {
   using namespace fit_detail;
   auto& s = workspace.scratch();
   s.last_hull_vertices = 0;
@@ -374,7 +374,9 @@ Obb fit_checked(std::span<const Vec3> points, const FitOptions& options, FitWork
       break;
     case FitMethod::approx: {
       const int k = options.epsilon ? grid_for_epsilon(*options.epsilon) : options.grid;
-      axes = grid_search(s.geometry, lemma_box(s.geometry, s.bopt), k, options.improve, s.bopt, seeds, seeds.empty()).axes;
+      axes = grid_search(s.geometry, lemma_box(s.geometry, s.bopt), k, options.improve, s.bopt, seeds, seeds.empty(),
+                         extras)
+                 .axes;
       break;
     }
     case FitMethod::approx_snap:
@@ -422,6 +424,16 @@ Obb fit_triangles_with_pca_axes(std::span<const Vec3> corners, std::span<const V
     default:
       return fit_triangles(corners, vertices, options, workspace);
   }
+}
+
+Obb fit_tree_node_approx(std::span<const Vec3> corners, std::span<const Vec3> vertices, const FitOptions& options,
+                         FitWorkspace& workspace) {
+  if (corners.size() % 3 != 0) throw InputError("fit: triangle corners must come in threes");
+  if (corners.empty() || vertices.empty()) throw InputError("fit: corners and vertices must be the same point set");
+  check_finite(vertices);
+  FitOptions approx = options;
+  approx.method = FitMethod::approx;
+  return fit_checked(vertices, approx, workspace, {}, Extras::by_size);
 }
 
 }  // namespace fit_detail

@@ -33,31 +33,72 @@ namespace tightbvh::fit_detail {
 // The primitive vectors (i1, i2, i3) with max |ij| <= k and gcd 1, one of each pair +-v.
 [[nodiscard]] const std::vector<std::array<int, 3>>& primitive_grid(int k);
 
-// A lower bound on the volume of every box with an axis along v, hence on Bopt(S, {v}):
-// width_v(S) * |n_T . v| / |v|^2 for triangles T on points of S, n_T = (b - a) x (c - a):
-// |n_T . v| / (2 |v|) is the area of T's projection along v, and a rectangle that contains a
-// triangle has at least twice its area. The triangles are those of the 6 extreme points of S
-// along the axes of B*(S). grid_search skips directions whose bound already reaches the volume
-// to beat without solving Bopt: the same result, 40-70% fewer Bopt calls on tree nodes.
+// Lower bounds on the volume of every box with an axis along v, hence on Bopt(S, {v}), as
+// width_v(S) times a lower bound on the area of S's projection along v (the box's cross-section
+// contains it):
+// - `cheap`: |n_T . v| / |v| for triangles T on points of S, n_T = (b - a) x (c - a): twice the
+//   area of T's projection, and a rectangle that contains a triangle has at least twice its area.
+//   The triangles are those of the 6 extreme points of S along the axes of B*(S).
+// - the full bound (operator()) also takes the projected area of the hull itself, ½ sum over its
+//   faces of |N_f . v| / |v| (N_f: the face's area vector; every point of the projection is
+//   covered by a face facing +v and one facing -v), summed over at most kAreaGroups groups of
+//   faces with nearby normals (|sum over a group| <= sum of the group's |N_f . v|, so still a lower
+//   bound); only for geometries with a hull.
+// grid_search skips directions whose bound already reaches the volume to beat without solving
+// Bopt: the same result with fewer Bopt calls.
 class VolumeBound {
  public:
+  static constexpr int kAreaGroups = 64;
   VolumeBound(const HullGeometry& g, const AxisBox& bstar);
+  // The full bound.
   [[nodiscard]] double operator()(const Vec3& v) const;
-  // True when no box with an axis along v can have a volume below `volume`.
+  // The triangle bound alone: cheaper, used to order the grid scan.
+  [[nodiscard]] double cheap(const Vec3& v) const;
+  // The same with width_v(S) given (v . p over S, max - min).
+  [[nodiscard]] double cheap(const Vec3& v, double width) const;
+  // cheap() for `lanes` (even) directions (dx[i], dy[i], dz[i]) with the ranges [lo[i], hi[i]] of
+  // their projections, into out[i]: two directions per SSE2 instruction (16-byte aligned arrays).
+  void cheap_lanes(const double* dx, const double* dy, const double* dz, const double* lo, const double* hi,
+                   double* out, std::size_t lanes) const;
+  // True when no box with an axis along v can have a volume below `volume` (full bound).
   [[nodiscard]] bool excludes(const Vec3& v, double volume) const;
 
  private:
   const HullGeometry& g_;
   std::array<Vec3, 20> normals_;
   int count_ = 0;
+  std::array<Vec3, kAreaGroups> areas_;  // half the area vectors of groups of faces
+  int area_count_ = 0;
 };
+
+// How much of the search beyond the grid scan grid_search spends: `full` (fit_points,
+// fit_triangles: the local improvement from the four best grid boxes and the tilt search, on every
+// set) or `by_size` (approx on tree nodes, fit_tree_node_approx): for a set of n points (n: hull
+// vertices, or the points of a set without hull) the local improvement (Section 6.5) from the best
+// grid box (n < 16), the two best (n < 64) or the four best, and the tilt search only from n = 32.
+// Measured on the trees of the 10 meshes of tightbvh-build-bench (README, "Tree builder",
+// approx): nodes below these sizes are most of a tree (85-90% have fewer than 16 points) but a
+// few percent of its sum of volumes, the extra starts and tilts changed their boxes by little
+// (the tilts never did below 8 points), and they were ~75% of a tree's Bopt calls.
+enum class Extras { full, by_size };
+inline constexpr std::size_t kTwoStartsFrom = 16;
+inline constexpr std::size_t kFourStartsFrom = 64;
+inline constexpr std::size_t kTiltFrom = 32;
+[[nodiscard]] int improvement_starts(std::size_t n, Extras extras);
 
 // GridSearchMinVolBbx (Section 6.4, Fig. 6.3): Bopt(S, {v}) for every primitive direction v
 // of Grid(B*(S)) (B*(S) = lemma_box, the box of Lemma 6.3.3 that Section 6.4 prescribes) with
-// L-inf norm <= k, keep the smallest; then (if `improve`) the local improvement of Section 6.5
-// from the four best and a pattern search over the best box's direction.
+// L-inf norm <= k, keep the smallest (its (1 + eps) guarantee); then (if `improve`) the local
+// improvement of Section 6.5 from the improvement_starts best and a pattern search over the best
+// box's direction (with Extras::by_size from kTiltFrom points).
 [[nodiscard]] AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool improve,
-                                  BoptScratch& scratch, std::span<const Vec3> seeds = {}, bool scan = true);
+                                  BoptScratch& scratch, std::span<const Vec3> seeds = {}, bool scan = true,
+                                  Extras extras = Extras::full);
+
+// approx on a tree node (the builder and refit): fit_triangles(corners, vertices, options,
+// workspace) with options.method == approx and grid_search's Extras::by_size.
+[[nodiscard]] Obb fit_tree_node_approx(std::span<const Vec3> corners, std::span<const Vec3> vertices,
+                                       const FitOptions& options, FitWorkspace& workspace);
 
 // The cheap variant used on kernels (approx-kernel): the grid scan of grid_search keeping only
 // the best box, then at most 4 rounds of the axis improvement, stopping below a 0.1% gain; no

@@ -8,6 +8,11 @@
 #include <numeric>
 
 #include "fitters.hpp"
+
+#if defined(__SSE2__) || defined(_M_X64)
+#include <emmintrin.h>
+#define TIGHTBVH_GRID_SSE2 1
+#endif
 #include "tightbvh/mesh.hpp"
 
 namespace tightbvh::fit_detail {
@@ -43,15 +48,88 @@ VolumeBound::VolumeBound(const HullGeometry& g, const AxisBox& bstar) : g_(g) {
       if (a.dot(p) > a.dot(extreme[2 * axis + 1])) extreme[2 * axis + 1] = p;
     }
   }
+  // Small sets repeat extreme points (a point extreme along two axes): their triangles are
+  // degenerate or repeated, so only the distinct points span triangles (same bound, fewer terms).
+  int distinct = 0;
   for (int i = 0; i < 6; ++i)
-    for (int j = i + 1; j < 6; ++j)
-      for (int l = j + 1; l < 6; ++l) normals_[count_++] = (extreme[j] - extreme[i]).cross(extreme[l] - extreme[i]);
+    if (std::find(extreme.begin(), extreme.begin() + distinct, extreme[i]) == extreme.begin() + distinct)
+      extreme[distinct++] = extreme[i];
+  for (int i = 0; i < distinct; ++i)
+    for (int j = i + 1; j < distinct; ++j)
+      for (int l = j + 1; l < distinct; ++l) normals_[count_++] = (extreme[j] - extreme[i]).cross(extreme[l] - extreme[i]);
+  if (g.hull == nullptr) return;
+  // The projected area of the hull is 1/4 sum_f |C_f . v| / |v| over its faces, C_f the cross
+  // product of two edges (twice the area vector; each point of the projection is covered twice).
+  // Up to kAreaGroups faces are kept one by one; more are summed per cell of a cube map of their
+  // normals (6 x 3 x 3 cells: normals within ~40 degrees), where the loss of |sum| against the
+  // sum of |.| is confined to the cells the silhouette crosses.
+  const auto& faces = g.hull->faces;
+  const auto cross = [&](const std::array<std::uint32_t, 3>& f) -> Vec3 {
+    return 0.25 * (g.local[f[1]] - g.local[f[0]]).cross(g.local[f[2]] - g.local[f[0]]);
+  };
+  if (faces.size() <= static_cast<std::size_t>(kAreaGroups)) {
+    for (const auto& f : faces) areas_[area_count_++] = cross(f);
+    return;
+  }
+  constexpr int kCells = 54;
+  static_assert(kCells <= kAreaGroups);
+  for (int c = 0; c < kCells; ++c) areas_[c] = Vec3::Zero();
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const Vec3& n = g.hull->face_normals[f];
+    int major = 0;
+    n.cwiseAbs().maxCoeff(&major);
+    const double m = std::abs(n[major]);
+    const int side = 2 * major + (n[major] < 0.0 ? 1 : 0);
+    const auto cell = [&](double t) { return std::clamp(static_cast<int>((t / m + 1.0) * 1.5), 0, 2); };
+    areas_[9 * side + 3 * cell(n[(major + 1) % 3]) + cell(n[(major + 2) % 3])] += cross(faces[f]);
+  }
+  area_count_ = kCells;
+}
+
+double VolumeBound::cheap(const Vec3& v) const {
+  const Extent along = extent_along(g_, v);
+  return cheap(v, along.hi - along.lo);
+}
+
+double VolumeBound::cheap(const Vec3& v, double width) const {
+  double projected = 0.0;
+  for (int i = 0; i < count_; ++i) projected = std::max(projected, std::abs(normals_[i].dot(v)));
+  return width * projected / v.squaredNorm();
+}
+
+void VolumeBound::cheap_lanes(const double* dx, const double* dy, const double* dz, const double* lo, const double* hi,
+                              double* out, std::size_t lanes) const {
+#ifdef TIGHTBVH_GRID_SSE2
+  const __m128d sign = _mm_set1_pd(-0.0);
+  for (std::size_t i = 0; i < lanes; i += 2) {
+    const __m128d ax = _mm_load_pd(dx + i), ay = _mm_load_pd(dy + i), az = _mm_load_pd(dz + i);
+    __m128d projected = _mm_setzero_pd();
+    for (int t = 0; t < count_; ++t) {
+      const Vec3& n = normals_[t];
+      const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(ax, _mm_set1_pd(n.x())), _mm_mul_pd(ay, _mm_set1_pd(n.y()))),
+                                   _mm_mul_pd(az, _mm_set1_pd(n.z())));
+      projected = _mm_max_pd(projected, _mm_andnot_pd(sign, d));
+    }
+    const __m128d norm2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(ax, ax), _mm_mul_pd(ay, ay)), _mm_mul_pd(az, az));
+    const __m128d width = _mm_sub_pd(_mm_load_pd(hi + i), _mm_load_pd(lo + i));
+    _mm_store_pd(out + i, _mm_div_pd(_mm_mul_pd(width, projected), norm2));
+  }
+#else
+  for (std::size_t i = 0; i < lanes; ++i) out[i] = cheap(Vec3(dx[i], dy[i], dz[i]), hi[i] - lo[i]);
+#endif
 }
 
 double VolumeBound::operator()(const Vec3& v) const {
   const Extent along = extent_along(g_, v);
   double projected = 0.0;
   for (int i = 0; i < count_; ++i) projected = std::max(projected, std::abs(normals_[i].dot(v)));
+  // Four partial sums: independent additions (the compiler may not reassociate them).
+  double area[4] = {0.0, 0.0, 0.0, 0.0};
+  int i = 0;
+  for (; i + 4 <= area_count_; i += 4)
+    for (int j = 0; j < 4; ++j) area[j] += std::abs(areas_[i + j].dot(v));
+  for (; i < area_count_; ++i) area[0] += std::abs(areas_[i].dot(v));
+  projected = std::max(projected, (area[0] + area[1]) + (area[2] + area[3]));
   return (along.hi - along.lo) * projected / v.squaredNorm();
 }
 
@@ -136,6 +214,36 @@ void keep_if_smaller(TopBoxes& top, int kept, const AxisBox& box) {
   top.from_bopt[at] = true;
 }
 
+// The k = 2 grid's 49 directions, padded to whole SSE2 lanes.
+constexpr std::size_t kWidthLanes = 50;
+
+// Per direction i (dx[i], dy[i], dz[i]) the least and greatest d . p over the points.
+void projection_ranges(std::span<const Vec3> points, const double* dx, const double* dy, const double* dz, double* lo,
+                       double* hi) {
+#ifdef TIGHTBVH_GRID_SSE2
+  for (std::size_t i = 0; i < kWidthLanes; i += 2) {
+    const __m128d ax = _mm_load_pd(dx + i), ay = _mm_load_pd(dy + i), az = _mm_load_pd(dz + i);
+    __m128d l = _mm_set1_pd(std::numeric_limits<double>::infinity()), h = _mm_set1_pd(-std::numeric_limits<double>::infinity());
+    for (const Vec3& p : points) {
+      const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(ax, _mm_set1_pd(p.x())), _mm_mul_pd(ay, _mm_set1_pd(p.y()))),
+                                   _mm_mul_pd(az, _mm_set1_pd(p.z())));
+      l = _mm_min_pd(l, d);
+      h = _mm_max_pd(h, d);
+    }
+    _mm_store_pd(lo + i, l);
+    _mm_store_pd(hi + i, h);
+  }
+#else
+  for (std::size_t i = 0; i < kWidthLanes; ++i) {
+    lo[i] = std::numeric_limits<double>::infinity(), hi[i] = -lo[i];
+    for (const Vec3& p : points) {
+      const double d = (dx[i] * p.x() + dy[i] * p.y()) + dz[i] * p.z();
+      lo[i] = std::min(lo[i], d), hi[i] = std::max(hi[i], d);
+    }
+  }
+#endif
+}
+
 // Bopt(S, {v}) for the primitive directions v of Grid(B*(S)) with L-inf norm <= k, in increasing
 // order of their volume bound (the best boxes come early, and once a bound reaches the kept-th
 // best volume so do all later ones); keeps the `kept` (<= kStarts) smallest boxes.
@@ -149,14 +257,35 @@ TopBoxes scan_grid(const HullGeometry& g, const AxisBox& bstar, const VolumeBoun
   const auto& grid = primitive_grid(k);
   auto& order = scratch.grid_order;
   order.clear();
-  for (std::uint32_t i = 0; i < grid.size(); ++i) {
-    const Vec3 v = basis * Vec3(grid[i][0], grid[i][1], grid[i][2]);
-    if (v.squaredNorm() > 0.0) order.emplace_back(bound(v), i);
+  if (grid.size() <= kWidthLanes) {
+    // The widths along all directions in one pass over the points, two directions per SSE2
+    // instruction: the same rounded projections as a scalar loop (no FMA), so the same order.
+    alignas(16) double dx[kWidthLanes] = {}, dy[kWidthLanes] = {}, dz[kWidthLanes] = {};
+    alignas(16) double lo[kWidthLanes], hi[kWidthLanes];
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+      const Vec3 v = basis * Vec3(grid[i][0], grid[i][1], grid[i][2]);
+      dx[i] = v.x(), dy[i] = v.y(), dz[i] = v.z();
+    }
+    projection_ranges(g.local, dx, dy, dz, lo, hi);
+    alignas(16) double lower[kWidthLanes];
+    bound.cheap_lanes(dx, dy, dz, lo, hi, lower, kWidthLanes);
+    for (std::uint32_t i = 0; i < grid.size(); ++i) {
+      const Vec3 v(dx[i], dy[i], dz[i]);
+      if (v.squaredNorm() > 0.0) order.emplace_back(lower[i], i);
+    }
+  } else {
+    for (std::uint32_t i = 0; i < grid.size(); ++i) {
+      const Vec3 v = basis * Vec3(grid[i][0], grid[i][1], grid[i][2]);
+      if (v.squaredNorm() > 0.0) order.emplace_back(bound.cheap(v), i);
+    }
   }
   std::sort(order.begin(), order.end());
   for (const auto& [lower, i] : order) {
     if (lower * (1.0 - 1e-9) >= top.volume[kept - 1]) break;
     const Vec3 v = basis * Vec3(grid[i][0], grid[i][1], grid[i][2]);
+    // The full bound (with the hull's projected area) skips more, at the price of a pass over
+    // the hull's faces: only for the directions the cheap bound cannot skip.
+    if (bound.excludes(v, top.volume[kept - 1])) continue;
     keep_if_smaller(top, kept, bopt(g, v, scratch));
   }
   return top;
@@ -164,21 +293,30 @@ TopBoxes scan_grid(const HullGeometry& g, const AxisBox& bstar, const VolumeBoun
 
 }  // namespace
 
+int improvement_starts(std::size_t n, Extras extras) {
+  if (extras == Extras::full) return kStarts;
+  return n < kTwoStartsFrom ? 1 : n < kFourStartsFrom ? 2 : kStarts;
+}
+
 AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool improve_step, BoptScratch& scratch,
-                    std::span<const Vec3> seeds, bool scan) {
+                    std::span<const Vec3> seeds, bool scan, Extras extras) {
   // Keep the few best boxes: the local improvement is run from each of them (it converges to
-  // local minima, Section 6.5, so a second or third start often lands in a better one).
+  // local minima, Section 6.5, so a second or third start often lands in a better one). The scan
+  // keeps only as many boxes as will be improved: the best box, which carries the guarantee of
+  // Section 6.4, is the same, and fewer Bopt calls are needed to certify it.
   const VolumeBound bound(g, bstar);
-  TopBoxes top = scan ? scan_grid(g, bstar, bound, k, kStarts, scratch) : only_bstar(bstar);
-  for (const Vec3& v : seeds) keep_if_smaller(top, kStarts, bopt(g, v, scratch));
+  const int starts = improvement_starts(g.size(), extras);
+  TopBoxes top = scan ? scan_grid(g, bstar, bound, k, starts, scratch) : only_bstar(bstar);
+  for (const Vec3& v : seeds) keep_if_smaller(top, starts, bopt(g, v, scratch));
   if (!improve_step) return top.box[0];
   AxisBox best = top.box[0];
   double best_volume = top.volume[0];
-  for (int i = 0; i < kStarts; ++i) {
+  for (int i = 0; i < starts; ++i) {
     if (!(top.volume[i] < std::numeric_limits<double>::infinity())) break;
     const AxisBox improved = improve(g, top.box[i], scratch, 1e-6, 16, top.from_bopt[i]);
     if (improved.volume() < best_volume) best_volume = improved.volume(), best = improved;
   }
+  if (extras == Extras::by_size && g.size() < kTiltFrom) return best;
   return refine_direction(g, best, bound, scratch);
 }
 

@@ -10,10 +10,46 @@ void HullGeometry::reset(const ConvexHull3& h, const Vec3& o) {
   origin = o;
   local.resize(h.vertices.size());
   for (std::size_t i = 0; i < local.size(); ++i) local[i] = h.vertices[i] - o;
+  face_adjacent.clear();
+  vertex_face.clear();
+  if (h.faces.size() < kWalkFaces) return;
+  // Each edge lists its vertices as its face[0] does (counter-clockwise seen from outside);
+  // face[1] has them the other way round.
+  constexpr std::uint32_t kNone = 0xffffffffu;
+  face_adjacent.assign(h.faces.size(), {kNone, kNone, kNone});
+  vertex_face.assign(h.vertices.size(), kNone);
+  const auto slot_of = [&](std::uint32_t f, std::uint32_t from, std::uint32_t to) {
+    const auto& v = h.faces[f];
+    for (std::uint32_t k = 0; k < 3; ++k)
+      if (v[(k + 1) % 3] == from && v[(k + 2) % 3] == to) return k;
+    return kNone;
+  };
+  for (const HullEdge& e : h.edges) {
+    const std::uint32_t k0 = slot_of(e.face[0], e.vertex[0], e.vertex[1]);
+    const std::uint32_t k1 = slot_of(e.face[1], e.vertex[1], e.vertex[0]);
+    if (k0 == kNone || k1 == kNone) {  // never expected: no walk on this hull
+      face_adjacent.clear();
+      vertex_face.clear();
+      return;
+    }
+    face_adjacent[e.face[0]][k0] = e.face[1];
+    face_adjacent[e.face[1]][k1] = e.face[0];
+  }
+  for (std::uint32_t f = 0; f < h.faces.size(); ++f)
+    for (const std::uint32_t v : h.faces[f]) vertex_face[v] = f;
+  for (const auto& adjacent : face_adjacent)
+    for (const std::uint32_t g : adjacent)
+      if (g == kNone) {
+        face_adjacent.clear();
+        vertex_face.clear();
+        return;
+      }
 }
 
 void HullGeometry::reset_points(std::span<const Vec3> points, const Vec3& o) {
   hull = nullptr;
+  face_adjacent.clear();
+  vertex_face.clear();
   origin = o;
   local.resize(points.size());
   for (std::size_t i = 0; i < local.size(); ++i) local[i] = points[i] - o;

@@ -1,6 +1,7 @@
 #pragma once
 // Internal: the hull as every fitter sees it (HullGeometry), the box they all return (AxisBox)
 // and the scans and walks over the hull's vertices that they share (hull_geometry.cpp).
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -19,6 +20,12 @@ struct HullGeometry {
   const ConvexHull3* hull = nullptr;
   Vec3 origin = Vec3::Zero();
   std::vector<Vec3> local;  // hull->vertices[i] - origin
+  // Hulls of at least kWalkFaces faces (reset): by face, the face across each edge (slot k: the
+  // edge from vertex k + 1 to vertex k + 2, as Quickhull's faces), and by vertex one face holding
+  // it. Bopt then walks the silhouette on these instead of classifying every edge.
+  static constexpr std::size_t kWalkFaces = 48;
+  std::vector<std::array<std::uint32_t, 3>> face_adjacent;
+  std::vector<std::uint32_t> vertex_face;
 
   void reset(const ConvexHull3& h, const Vec3& o);
   void reset_points(std::span<const Vec3> points, const Vec3& o);

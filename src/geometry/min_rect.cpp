@@ -36,40 +36,54 @@ Rect2 min_area_rect(std::span<const Vec2> polygon) {
   // For edge i (from p[i] to p[i+1], counter-clockwise, interior on the left) keep three
   // calipers: r = farthest along the edge, t = farthest from the edge line (towards the
   // interior), l = farthest against the edge direction. Each only moves forward: O(n).
+  // `edge(i)` is p[i+1] - p[i]: read from a table for the usual few-vertex polygons (each edge
+  // is tested several times), computed again for large ones (no allocation); the same values.
   const auto next = [n](std::size_t i) { return i + 1 == n ? 0 : i + 1; };
-  std::size_t r = 0, t = 0, l = 0;
-  double best_area = std::numeric_limits<double>::infinity();
+  const auto calipers = [&](const auto& edge) {
+    std::size_t r = 0, t = 0, l = 0;
+    double best_area = std::numeric_limits<double>::infinity();
+    std::size_t best_edge = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      // u = e, v = e rotated: unnormalised (the caliper tests only use signs), so the area is
+      // the product of the two spans over |e|^2; no square root per edge.
+      const Vec2 e = edge(i);
+      const double len2 = e.squaredNorm();
+      if (!(len2 > 0.0)) continue;
+      const Vec2& u = e;
+      const Vec2 v(-u.y(), u.x());
+      const Vec2& o = polygon[i];
+      if (i == 0) {
+        r = next(i);
+        t = r;
+        l = 0;
+      }
+      // Advance r while it increases the projection on u; t on v; l while it decreases on u.
+      std::size_t guard = 0;
+      while (guard++ < n && u.dot(edge(r)) > 0.0) r = next(r);
+      if (i == 0) t = r;
+      guard = 0;
+      while (guard++ < n && v.dot(edge(t)) > 0.0) t = next(t);
+      if (i == 0) l = t;
+      guard = 0;
+      while (guard++ < n && u.dot(edge(l)) < 0.0) l = next(l);
+      const double width = u.dot(polygon[r] - o) - u.dot(polygon[l] - o);
+      const double height = v.dot(polygon[t] - o);
+      const double area = width * height / len2;
+      if (area < best_area) {
+        best_area = area;
+        best_edge = i;
+      }
+    }
+    return best_edge;
+  };
+  constexpr std::size_t kTable = 64;
   std::size_t best_edge = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    // u = e, v = e rotated: unnormalised (the caliper tests only use signs), so the area is
-    // the product of the two spans over |e|^2; no square root per edge.
-    const Vec2 e = polygon[next(i)] - polygon[i];
-    const double len2 = e.squaredNorm();
-    if (!(len2 > 0.0)) continue;
-    const Vec2& u = e;
-    const Vec2 v(-u.y(), u.x());
-    const Vec2& o = polygon[i];
-    if (i == 0) {
-      r = next(i);
-      t = r;
-      l = 0;
-    }
-    // Advance r while it increases the projection on u; t on v; l while it decreases on u.
-    std::size_t guard = 0;
-    while (guard++ < n && u.dot(polygon[next(r)] - polygon[r]) > 0.0) r = next(r);
-    if (i == 0) t = r;
-    guard = 0;
-    while (guard++ < n && v.dot(polygon[next(t)] - polygon[t]) > 0.0) t = next(t);
-    if (i == 0) l = t;
-    guard = 0;
-    while (guard++ < n && u.dot(polygon[next(l)] - polygon[l]) < 0.0) l = next(l);
-    const double width = u.dot(polygon[r] - o) - u.dot(polygon[l] - o);
-    const double height = v.dot(polygon[t] - o);
-    const double area = width * height / len2;
-    if (area < best_area) {
-      best_area = area;
-      best_edge = i;
-    }
+  if (n <= kTable) {
+    Vec2 table[kTable];
+    for (std::size_t i = 0; i < n; ++i) table[i] = polygon[next(i)] - polygon[i];
+    best_edge = calipers([&](std::size_t i) -> const Vec2& { return table[i]; });
+  } else {
+    best_edge = calipers([&](std::size_t i) -> Vec2 { return polygon[next(i)] - polygon[i]; });
   }
   const Vec2 e = polygon[next(best_edge)] - polygon[best_edge];
   const double len = e.norm();

@@ -134,6 +134,9 @@ template <class Vertices>
                !distinct.empty() && (pca_axes != nullptr || from != nullptr) &&
                (fit_detail::uses_pca_axes(method) || method == FitMethod::approx)) {
       box = fit_detail::fit_triangles_with_pca_axes(corners, distinct, fit, workspace, pca_axes, from);
+    } else if (method == FitMethod::approx && !distinct.empty()) {
+      // The (1 + eps) grid scan at every node, its quality extras by the node's size.
+      box = fit_detail::fit_tree_node_approx(corners, distinct, fit, workspace);
     } else {
       box = distinct.empty() ? fit_triangles(corners, fit, workspace) : fit_triangles(corners, distinct, fit, workspace);
     }

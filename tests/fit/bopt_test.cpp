@@ -104,12 +104,7 @@ std::vector<std::vector<Vec3>> degenerate_solids() {
     sets.push_back(octahedron);
   }
   for (std::uint64_t seed = 1; seed <= 10; ++seed) sets.push_back(test::gaussian_points(4 + 3 * seed, seed));
-  const std::size_t plain = sets.size();
-  for (std::size_t i = 0; i < plain; ++i) {
-    std::vector<Vec3> far = sets[i];
-    for (Vec3& p : far) p += Vec3(1e6, -2e6, 3e6);
-    sets.push_back(far);
-  }
+  test::append_far_copies(sets);
   return sets;
 }
 

@@ -21,6 +21,17 @@ inline std::vector<Vec3> gaussian_points(std::size_t n, std::uint64_t seed, cons
   return points;
 }
 
+// Appends a copy of every set moved to (1e6, -2e6, 3e6): far from the origin, where the fitters
+// must keep their precision by working relative to a point of the set.
+inline void append_far_copies(std::vector<std::vector<Vec3>>& sets) {
+  const std::size_t plain = sets.size();
+  for (std::size_t i = 0; i < plain; ++i) {
+    std::vector<Vec3> far = sets[i];
+    for (Vec3& p : far) p += Vec3(1e6, -2e6, 3e6);
+    sets.push_back(std::move(far));
+  }
+}
+
 inline Mat3 random_rotation(std::mt19937_64& rng) {
   std::normal_distribution<double> normal;
   Eigen::Quaterniond q(normal(rng), normal(rng), normal(rng), normal(rng));

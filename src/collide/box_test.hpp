@@ -182,6 +182,13 @@ struct ChildBoxes {
   const Eigen::Vector3f* eb[2];
 };
 
+// first_hit's descent order (traverse.hpp, sort_nearest_first): the squared distance between A's
+// box center and B's mapped box center, in A's frame. Shared by collide() and collide_trace(), so
+// that both visit the pairs in one order.
+[[nodiscard]] inline double center_gap(const CompactBox& a, const MappedBox& mb) {
+  return (mb.center - a.center_d()).squaredNorm();
+}
+
 // Those of nodes `na` of A and `nb` of B (both internal); mapped(b) -> B's const MappedBox&.
 template <class Mapped>
 [[nodiscard]] inline ChildBoxes child_boxes(const Tree& ta, const Tree& tb, const Node& na, const Node& nb,

@@ -24,13 +24,14 @@ namespace {
 using query_detail::map_point;
 
 // The batched box tests of collide_trees for a walk that can use them (traverse_pairs_tested).
-template <bool FirstHit, class One, class ChildrenA, class ChildrenB, class ChildrenBoth>
+template <bool FirstHit, class One, class ChildrenA, class ChildrenB, class ChildrenBoth, class Gap>
 struct BatchedTests {
   static constexpr bool first_hit = FirstHit;
   One& one;
   ChildrenA& children_a;
   ChildrenB& children_b;
   ChildrenBoth& children_both;
+  Gap& gap;  // first_hit's order of a split's child pairs
   std::uint64_t& box_tests;
 };
 
@@ -72,6 +73,8 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
   const auto children_both = [&](const Node& na, const Node& nb, bool a_major) {
     return boxes_overlap_cross(child_boxes(ta, tb, na, nb, mapped_b), a_major, margin, avx2);
   };
+  // first_hit visits a split's child pairs nearest first (traverse.hpp, sort_nearest_first).
+  const auto gap = [&](std::uint32_t ia, std::uint32_t ib) { return center_gap(ta.nodes[ia].box, mapped_b(ib)); };
   MappedChunk mapped;
   const auto triangles_touch = [&](std::uint32_t ia_node, std::uint32_t ib_node) {
     const Node& na = ta.nodes[ia_node];
@@ -103,7 +106,8 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
   };
   walk(boxes_overlap, triangles_touch,
        BatchedTests<FirstHit, decltype(node_overlaps), decltype(children_of_a), decltype(children_of_b),
-                    decltype(children_both)>{node_overlaps, children_of_a, children_of_b, children_both, box_tests});
+                    decltype(children_both), decltype(gap)>{node_overlaps, children_of_a, children_of_b, children_both,
+                                                            gap, box_tests});
   result.stats.box_tests += box_tests;
   result.stats.triangle_tests += triangle_tests;
 }
@@ -173,7 +177,8 @@ QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b
       [&](auto&, auto& leaves, auto batched) {
         query_detail::traverse_pairs_tested<decltype(batched)::first_hit>(a, b, options.descend, ws.tested_stack, batched.box_tests,
                                             batched.one,
-                                            batched.children_a, batched.children_b, batched.children_both, leaves);
+                                            batched.children_a, batched.children_b, batched.children_both, leaves,
+                                            batched.gap);
       });
 }
 

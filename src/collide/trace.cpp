@@ -117,7 +117,11 @@ CollideTrace collide_trace(const Tree& ta, const Mesh& ma, const Pose& pa, const
     return Walk::go_on;
   };
   PairStack stack;
-  traverse_pairs(ta, tb, options.descend, stack, boxes_overlap, triangles_touch);
+  if (first_hit)  // collide()'s first_hit order: a split's child pairs nearest first
+    traverse_pairs(ta, tb, options.descend, stack, boxes_overlap, triangles_touch,
+                   [&](std::uint32_t ia, std::uint32_t ib) { return center_gap(ta.nodes[ia].box, cache.mapped(ib, tb.nodes[ib].box, rel)); });
+  else
+    traverse_pairs(ta, tb, options.descend, stack, boxes_overlap, triangles_touch);
   if (!first_hit) {
     std::sort(result.pairs.begin(), result.pairs.end());
     result.pairs.erase(std::unique(result.pairs.begin(), result.pairs.end()), result.pairs.end());

@@ -170,6 +170,27 @@ TEST(Collide, AutoTreesNeedAboutTheBoxTestsOfApproxTrees) {
   EXPECT_LT(auto_fit, 0.9 * pca) << "auto " << auto_fit << ", pca " << pca;
 }
 
+// first_hit visits a split's child pairs nearest first (traverse.hpp, sort_nearest_first): B's
+// one triangle crosses both of A's, which are far apart; the hit reported is with the one whose
+// box center is nearer B's. A fixed order reports the same triangle of A in both cases.
+TEST(Collide, FirstHitVisitsTheNearerChildPairFirst) {
+  const Mesh a{{{0, -1, -1}, {0, 1, -1}, {0, 0, 1}, {10, -1, -1}, {10, 1, -1}, {10, 0, 1}}, {{0, 1, 2}, {3, 4, 5}}};
+  const Tree ta = build(a, {.fitter = FitMethod::aabb, .threads = 1});
+  ASSERT_EQ(ta.nodes.size(), 3u);
+  for (const auto& [x0, x1, nearer] : {std::tuple{-20.0, 11.0, 0u}, std::tuple{-1.0, 30.0, 1u}}) {
+    // A tall triangle in z = 0 over x in [x0, x1]: it crosses x = 0 and x = 10 within |y| < 0.5.
+    const Mesh b{{{x0, -1, 0}, {x1, -1, 0}, {(x0 + x1) / 2, 40, 0}}, {{0, 1, 2}}};
+    const Tree tb = build(b, {.fitter = FitMethod::aabb, .threads = 1});
+    ASSERT_EQ(collide(ta, a, Pose::identity(), tb, b, Pose::identity(), {.mode = QueryMode::all_pairs}).pairs.size(), 2u);
+    const QueryResult first = collide(ta, a, Pose::identity(), tb, b, Pose::identity(), {.mode = QueryMode::first_hit});
+    ASSERT_EQ(first.pairs.size(), 1u);
+    EXPECT_EQ(first.pairs[0].a, nearer) << "B over x in [" << x0 << ", " << x1 << "]";
+    const CollideTrace trace = collide_trace(ta, a, Pose::identity(), tb, b, Pose::identity(), {.mode = QueryMode::first_hit});
+    EXPECT_EQ(trace.result.pairs, first.pairs);
+    EXPECT_EQ(trace.result.stats.box_tests, first.stats.box_tests);
+  }
+}
+
 TEST(Collide, BatchIsIdenticalForAnyThreadCount) {
   const Mesh a = subset(shipped("meshes/knot1.off"), 4);
   const Mesh b = uv_sphere(10, 16, 0.3);

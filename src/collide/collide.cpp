@@ -73,8 +73,10 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
   const auto children_both = [&](const Node& na, const Node& nb, bool a_major) {
     return boxes_overlap_cross(child_boxes(ta, tb, na, nb, mapped_b), a_major, margin, avx2);
   };
-  // first_hit visits a split's child pairs nearest first (traverse.hpp, sort_nearest_first).
-  const auto gap = [&](std::uint32_t ia, std::uint32_t ib) { return center_gap(ta.nodes[ia].box, mapped_b(ib)); };
+  // first_hit visits a split's overlapping child pairs nearest first (traverse.hpp,
+  // sort_nearest_first). Only pairs that a split has just tested are ordered, so B's box is
+  // mapped already: read it without the cache's check.
+  const auto gap = [&](std::uint32_t ia, std::uint32_t ib) { return center_gap(ta.nodes[ia].box, cache.boxes[ib]); };
   MappedChunk mapped;
   const auto triangles_touch = [&](std::uint32_t ia_node, std::uint32_t ib_node) {
     const Node& na = ta.nodes[ia_node];

@@ -117,11 +117,18 @@ CollideTrace collide_trace(const Tree& ta, const Mesh& ma, const Pose& pa, const
     return Walk::go_on;
   };
   PairStack stack;
-  if (first_hit)  // collide()'s first_hit order: a split's child pairs nearest first
-    traverse_pairs(ta, tb, options.descend, stack, boxes_overlap, triangles_touch,
-                   [&](std::uint32_t ia, std::uint32_t ib) { return center_gap(ta.nodes[ia].box, cache.mapped(ib, tb.nodes[ib].box, rel)); });
-  else
+  if (first_hit) {  // collide()'s first_hit order: a split's overlapping child pairs nearest first
+    const auto gap = [&](std::uint32_t ia, std::uint32_t ib) {
+      return center_gap(ta.nodes[ia].box, cache.mapped(ib, tb.nodes[ib].box, rel));
+    };
+    const auto overlaps = [&](std::uint32_t ia, std::uint32_t ib) {  // not counted, not recorded
+      return box_overlap(ta.nodes[ia].box, cache.mapped(ib, tb.nodes[ib].box, rel), tb.nodes[ib].box.half_extents,
+                         margin);
+    };
+    traverse_pairs(ta, tb, options.descend, stack, boxes_overlap, triangles_touch, NearestFirst{gap, overlaps});
+  } else {
     traverse_pairs(ta, tb, options.descend, stack, boxes_overlap, triangles_touch);
+  }
   if (!first_hit) {
     std::sort(result.pairs.begin(), result.pairs.end());
     result.pairs.erase(std::unique(result.pairs.begin(), result.pairs.end()), result.pairs.end());

@@ -8,8 +8,8 @@
 //                             ta.triangle_order, same for b); Walk::stop ends the descent.
 // Order: depth first from (0, 0); of an internal pair the larger node (DescendRule) is split,
 // its first child visited first, or both nodes when they are of about one size (choose_split).
-// A walk given a `gap` (first hit) visits a split's child pairs nearest first instead (see
-// nearest_first). Queries rely on this order for their first hit and stats.
+// A walk given a NearestFirst order (first hit) visits a split's overlapping child pairs nearest
+// first, then its culled ones (sort_nearest_first). Queries rely on this order for their first hit and stats.
 #include <algorithm>
 #include <array>
 #include <cstddef>
@@ -127,36 +127,56 @@ enum class Split {
   return {{{a0, b0}, {a1, b0}, {a0, b1}, {a1, b1}}};
 }
 
-// The order of a split's child pairs for a walk that stops at its first hit: the pair whose box
-// centers are nearest (gap(a, b): their squared distance in A's frame) first, ties in
-// both_children's order. A first hit is found where the surfaces cross; of two overlapping child
-// pairs, the one whose centers are closer is the more likely to hold a crossing, and the walk
-// need not visit the other. On the bench's deep-overlap poses this halves first_hit's box tests
-// (elephant/knot1 auto trees: 172.8 -> 97.9 a query; near contact 5-16% fewer; separated poses
-// are culled at the roots, unchanged), for a few flops a split. The depth of overlap (the least
-// SAT slack of the 15 axes) orders about as well (79.7) but is not free: README, "Descent order".
+// The order of a split's child pairs for a walk that stops at its first hit: those whose boxes
+// overlap first, nearest first (gap(a, b): the squared distance of their box centers in A's
+// frame; ties in both_children's order), then those culled. A first hit is found where the
+// surfaces cross; of two overlapping child pairs, the one whose centers are closer is the more
+// likely to hold a crossing, and the walk need not visit the other. On the bench's deep-overlap
+// poses first_hit makes 45-72% fewer box tests (elephant/knot1 auto trees: 148 -> 62 a query)
+// and takes 23-41% less time, near contact 3-24% fewer tests; separated poses make the same
+// tests, 2-5% slower. Culled pairs go last so that a split with fewer than two overlapping pairs
+// (most splits apart from contact) computes no gap, and the pairs are picked with branches that
+// predict "culled" there: ordering every pair by gap cost separated first_hit 17-60% of its time,
+// a branch-free pick of the overlapping pairs 10%. The depth of overlap (the least SAT slack of
+// the 15 axes) orders about as well but is not free. README, "Descent order".
 struct NoGap {};
 inline constexpr int kMaxChildPairs = 4;
-// Sorts the first n (2 or 4) entries of `kids` (and `extra` with them) by `key`, ascending, stable.
-template <class Pair, class Extra>
-inline void sort_nearest_first(Pair* kids, Extra* extra, const double* key_in, int n) {
+
+// Orders pairs[0..m) (2 <= m <= 4) by gap, ascending, stable.
+template <class Pair, class Gap>
+inline void sort_nearest_first(Pair* pairs, int m, Gap&& gap) {
+  if (m == 2) {  // most splits: a select, not a branch (the outcome is a coin toss)
+    const bool swap = gap(pairs[1].a, pairs[1].b) < gap(pairs[0].a, pairs[0].b);
+    const Pair p0 = pairs[0], p1 = pairs[1];
+    pairs[0] = swap ? p1 : p0;
+    pairs[1] = swap ? p0 : p1;
+    return;
+  }
   double key[kMaxChildPairs];
-  for (int k = 0; k < n; ++k) key[k] = key_in[k];
-  for (int k = 1; k < n; ++k)
+  for (int k = 0; k < m; ++k) key[k] = gap(pairs[k].a, pairs[k].b);
+  for (int k = 1; k < m; ++k)
     for (int j = k; j > 0 && key[j] < key[j - 1]; --j) {
       std::swap(key[j], key[j - 1]);
-      std::swap(kids[j], kids[j - 1]);
-      std::swap(extra[j], extra[j - 1]);
+      std::swap(pairs[j], pairs[j - 1]);
     }
 }
 
+// traverse_pairs' order for a walk that stops at its first hit: `gap` as above, and
+// `overlaps(a, b)`, the node test without its bookkeeping (the order needs every outcome of a
+// split before the walk visits, and counts, its pairs one by one).
+template <class Gap, class Overlaps>
+struct NearestFirst {
+  Gap gap;
+  Overlaps overlaps;
+};
+
 // Walks the node pairs of non-empty trees ta x tb. Returns Walk::stop when `leaves` stopped it.
 // `stack` is scratch (cleared here, so a stack left over by a stopped walk is fine).
-// With a `gap` (not NoGap) a split's child pairs are visited nearest first (sort_nearest_first).
-template <class NodeTest, class LeafPair, class Gap = NoGap>
+// With `order` a NearestFirst (not NoGap) a split's child pairs are visited in its order.
+template <class NodeTest, class LeafPair, class Order = NoGap>
 Walk traverse_pairs(const Tree& ta, const Tree& tb, DescendRule rule, PairStack& stack, NodeTest&& test,
-                    LeafPair&& leaves, Gap&& gap = {}) {
-  constexpr bool nearest = !std::is_same_v<std::remove_cvref_t<Gap>, NoGap>;
+                    LeafPair&& leaves, Order&& order = {}) {
+  constexpr bool nearest = !std::is_same_v<std::remove_cvref_t<Order>, NoGap>;
   stack.clear();
   stack.push({0, 0});
   while (!stack.empty()) {
@@ -183,11 +203,15 @@ Walk traverse_pairs(const Tree& ta, const Tree& tb, DescendRule rule, PairStack&
       std::copy(four.begin(), four.end(), kids);
       n = 4;
     }
-    if constexpr (nearest) {
-      double key[kMaxChildPairs];
-      char unused[kMaxChildPairs] = {};
-      for (int k = 0; k < n; ++k) key[k] = gap(kids[k].a, kids[k].b);
-      sort_nearest_first(kids, unused, key, n);
+    if constexpr (nearest) {  // overlapping pairs nearest first, then the culled ones
+      NodePair sorted[kMaxChildPairs];
+      int m = 0;
+      for (int k = 0; k < n; ++k)
+        if (order.overlaps(kids[k].a, kids[k].b)) sorted[m++] = kids[k];
+      if (m >= 2) sort_nearest_first(sorted, m, order.gap);
+      for (int k = 0, c = m; k < n; ++k)
+        if (!order.overlaps(kids[k].a, kids[k].b)) sorted[c++] = kids[k];
+      std::copy(sorted, sorted + n, kids);
     }
     for (int k = n - 1; k >= 0; --k) stack.push(kids[k]);
   }
@@ -211,8 +235,8 @@ Walk traverse_pairs(const Tree& ta, const Tree& tb, DescendRule rule, PairStack&
 // (write the slot, advance by the outcome) was 4-10% faster in all_pairs near contact and in
 // overlap but 5-10% slower in separated scenarios, where nearly every outcome is "culled" and
 // predicted, so the next pop runs ahead of the box test; branch-free, its address waits for it.
-// A walk that can stop orders a split's child pairs nearest first by `gap` (as traverse_pairs
-// given it does), before the overlapping ones are pushed.
+// A walk that can stop, given a `gap`, pushes a split's overlapping child pairs nearest first and
+// counts its culled ones after them (traverse_pairs' NearestFirst order).
 template <bool CanStop, class NodeTest, class ChildrenA, class ChildrenB, class ChildrenBoth, class LeafPair,
           class Gap = NoGap>
 Walk traverse_pairs_tested(const Tree& ta, const Tree& tb, DescendRule rule, TestedPairStack& stack,
@@ -229,13 +253,39 @@ Walk traverse_pairs_tested(const Tree& ta, const Tree& tb, DescendRule rule, Tes
   stack.push({0, 0, 0});  // first hit: counted when popped
   std::uint64_t after_last = 0;  // culled pairs after every pair on the stack
   // Pushes kids[0..n) in reverse (kids[0] is popped first), those that overlap only.
-  const auto push_overlapping = [&](TestedPair* kids, bool* overlap, int n) {
-    if constexpr (nearest) {  // (all culled: every order counts them alike)
-      if (std::any_of(overlap, overlap + n, [](bool o) { return o; })) {
-        double key[kMaxChildPairs];
-        for (int k = 0; k < n; ++k) key[k] = gap(kids[k].a, kids[k].b);
-        sort_nearest_first(kids, overlap, key, n);
+  const auto push_overlapping = [&](const TestedPair* kids, const bool* overlap, int n) {
+    if constexpr (nearest) {  // overlapping pairs nearest first, then the culled ones (trailing)
+      if (n == 2) {  // a split of one node: branches on the outcomes, as the pushes below (predicted
+                     // "culled" apart from contact); the gaps only when both pairs overlap
+        if (overlap[0] && overlap[1]) {
+          const bool swap = gap(kids[1].a, kids[1].b) < gap(kids[0].a, kids[0].b);
+          const TestedPair first = swap ? kids[1] : kids[0], second = swap ? kids[0] : kids[1];
+          stack.push({second.a, second.b, 0});
+          stack.push({first.a, first.b, 0});
+          return;
+        }
+        const std::uint64_t trailing = overlap[0] || overlap[1] ? 1 : 2;
+        if (stack.empty())
+          after_last += trailing;
+        else
+          stack.top().culled_before += trailing;
+        if (overlap[0]) stack.push({kids[0].a, kids[0].b, 0});
+        if (overlap[1]) stack.push({kids[1].a, kids[1].b, 0});
+        return;
       }
+      TestedPair entry[kMaxChildPairs];
+      int m = 0;
+      for (int k = 0; k < n; ++k)
+        if (overlap[k]) entry[m++] = {kids[k].a, kids[k].b, 0};
+      if (m >= 2) sort_nearest_first(entry, m, gap);
+      if (const int trailing = n - m; trailing != 0) {
+        if (stack.empty())
+          after_last += static_cast<std::uint64_t>(trailing);
+        else
+          stack.top().culled_before += static_cast<std::uint64_t>(trailing);
+      }
+      for (int k = m - 1; k >= 0; --k) stack.push(entry[k]);
+      return;
     }
     if constexpr (!CanStop) {
       box_tests += static_cast<std::uint64_t>(n);  // every pushed pair is popped: count them now
@@ -270,8 +320,8 @@ Walk traverse_pairs_tested(const Tree& ta, const Tree& tb, DescendRule rule, Tes
     const Split split = choose_split(na, nb, rule);
     if (splits_both(split)) {
       const std::array<NodePair, 4> pairs = both_children(na, nb, split);
-      std::array<bool, 4> overlap = test_children_both(na, nb, split == Split::both_a_first);
-      TestedPair kids[4] = {{pairs[0].a, pairs[0].b, 0}, {pairs[1].a, pairs[1].b, 0},
+      const std::array<bool, 4> overlap = test_children_both(na, nb, split == Split::both_a_first);
+      const TestedPair kids[4] = {{pairs[0].a, pairs[0].b, 0}, {pairs[1].a, pairs[1].b, 0},
                                   {pairs[2].a, pairs[2].b, 0}, {pairs[3].a, pairs[3].b, 0}};
       push_overlapping(kids, overlap.data(), 4);
       continue;

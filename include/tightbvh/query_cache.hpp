@@ -13,8 +13,11 @@
 // the parent still overlaps), so the front follows the contact region instead of only growing.
 //
 // first_hit: the leaf pair that touched last time is tried first (a "witness", as in
-// Lin-Canny's feature caching), then the front in order; the hit flag equals the cold query's,
-// but the pair reported may differ (any touching pair is a valid answer).
+// Lin-Canny's feature caching); if it no longer touches, the cold descent from the roots answers
+// (faster than a descent from the front since the cold one tests its pairs in SIMD batches and
+// nearest first). The hit flag equals the cold query's, but the pair reported may differ (any
+// touching pair is a valid answer). first_hit leaves the front as it is, so one cache may serve
+// both modes.
 //
 // The front depends only on the two trees' topology. The cache records which trees (address,
 // node buffer, node and triangle counts) filled it; a query on other trees, or with A and B

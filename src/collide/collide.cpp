@@ -190,8 +190,25 @@ QueryResult collide(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b
   const bool first = options.mode == QueryMode::first_hit;
   return collide_with(
       a, ma, pa, b, mb, pb, options, st.scratch, [&] { st.bind(a, b); },
-      [&](auto& test, auto& leaves, auto) {
-        query_detail::traverse_front(a, b, options.descend, st, first, test, leaves);
+      [&](auto& test, auto& leaves, auto batched) {
+        if (!first) {
+          query_detail::traverse_front(a, b, options.descend, st, test, leaves);
+          return;
+        }
+        // first_hit: the leaf pair that touched last time (it usually still does between close
+        // poses: one box test), else the cold descent; the front is left to the other modes.
+        const auto remember = [&](std::uint32_t ia, std::uint32_t ib) {
+          const query_detail::Walk walk = leaves(ia, ib);
+          if (walk == query_detail::Walk::stop) st.last_hit = {ia, ib};
+          return walk;
+        };
+        if (st.last_hit && test(st.last_hit->a, st.last_hit->b) &&
+            remember(st.last_hit->a, st.last_hit->b) == query_detail::Walk::stop)
+          return;
+        st.last_hit.reset();
+        query_detail::traverse_pairs_tested<true>(a, b, options.descend, st.scratch.tested_stack, batched.box_tests,
+                                                  batched.one, batched.children_a, batched.children_b,
+                                                  batched.children_both, remember, batched.gap);
       });
 }
 

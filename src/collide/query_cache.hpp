@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -32,9 +33,7 @@ struct FrontEntry {
   std::uint32_t a = 0, b = 0;
   std::uint16_t culled = 0;  // consecutive queries in which this pair's boxes were apart
   std::uint8_t level = 0;    // lift back-off: a lift is tried once both siblings were apart 1 << level times
-  std::uint8_t state = 0;    // kFresh; kTestedApart / kTestedOverlap: a first_hit leaf pair tested ahead
 };
-inline constexpr std::uint8_t kFresh = 0, kTestedApart = 1, kTestedOverlap = 2;
 inline constexpr std::uint8_t kMaxLiftLevel = 2;  // a failed lift is retried after at most 4 queries
 
 // A growable array of entries whose push is inlined (std::vector's push_back was not, and it
@@ -93,14 +92,14 @@ struct QueryCache::State {
   std::vector<std::uint32_t> parent_a, parent_b;
   query_detail::EntryList front, next;
   query_detail::EntryList stack;  // descent below one front entry
-  std::uint32_t witness = query_detail::kNoNode;  // index into front of the last first_hit's leaf pair
+  std::optional<query_detail::NodePair> last_hit;  // the leaf pair of the last first_hit's hit
   std::uint64_t resets = 0;
   QueryWorkspace::Scratch scratch;
 
   void clear() {
     key_a = key_b = {};
     front.clear();
-    witness = query_detail::kNoNode;
+    last_hit.reset();
   }
   // Makes the state ready for a query on (a, b): keeps the front if it was built on them.
   void bind(const Tree& a, const Tree& b) {
@@ -112,7 +111,7 @@ struct QueryCache::State {
     query_detail::fill_parents(a, parent_a);
     query_detail::fill_parents(b, parent_b);
     front.assign_one(query_detail::FrontEntry{});  // the root pair
-    witness = query_detail::kNoNode;
+    last_hit.reset();
   }
 };
 
@@ -121,22 +120,23 @@ namespace query_detail {
 // Where the node pair being tested came from (traverse_front has one call site of `test`, so
 // that the query's box test inlines there).
 enum class Source : std::uint8_t {
-  root,      // the root pair, tested first when the front is larger
-  pretest,   // first_hit: a leaf pair that overlapped in the previous query (the witness first)
-  front,     // an entry of the previous front
-  child,     // a child pair below an overlapping pair
-  lift,      // the parent of two sibling entries found apart
+  root,   // the root pair, tested first when the front is larger
+  front,  // an entry of the previous front
+  child,  // a child pair below an overlapping pair
+  lift,   // the parent of two sibling entries found apart
 };
 
 // The descent of traverse_pairs, from the front of `st` (bound to ta, tb); rebuilds the front.
-// first_hit: the previous query's overlapping leaf pairs are tried first, the last hit's first
-// of all (a leaf pair that touched usually still does between close poses).
-// flatten (GCC, Clang; others ignore it): with the pre-pass, lifting and stop paths the function
-// outgrew GCC's inlining budget, and the box test's 3x3 products and the entry pushes became calls
-// (all_pairs on the bench trajectory: 0.96x -> 1.04x of cold queries' speed).
+// For the queries that visit every touching pair (all_pairs, with or without a margin): first_hit
+// tries the last hit's leaf pair and then descends from the roots (collide.cpp), as the front
+// descent's one-pair tests were slower than the cold descent's batched ones (README, "Coherent
+// sequences").
+// flatten (GCC, Clang; others ignore it): with the lifting paths the function outgrew GCC's
+// inlining budget, and the box test's 3x3 products and the entry pushes became calls (all_pairs on
+// the bench trajectory: 0.96x -> 1.04x of cold queries' speed at the time).
 template <class NodeTest, class LeafPair>
-[[gnu::flatten]] Walk traverse_front(const Tree& ta, const Tree& tb, DescendRule rule, QueryCache::State& st, bool first_hit,
-                    NodeTest&& test, LeafPair&& leaves) {
+[[gnu::flatten]] void traverse_front(const Tree& ta, const Tree& tb, DescendRule rule, QueryCache::State& st,
+                                    NodeTest&& test, LeafPair&& leaves) {
   EntryList& front = st.front;
   EntryList& next = st.next;
   EntryList& stack = st.stack;
@@ -144,11 +144,8 @@ template <class NodeTest, class LeafPair>
   stack.clear();
 
   std::size_t i = 0;             // next entry of the old front
-  std::size_t pre = 0;           // next entry of the first_hit pre-pass (kNoNode: the witness)
-  bool pre_pass = first_hit;     // first_hit: pre-pass over the previous query's overlapping leaf pairs
   bool root_first = front.size() > 1;
   bool lifting = false;          // `lift` holds the parent of next's last two entries, to be tested
-  bool witness_next = st.witness < front.size();
   FrontEntry lift{};
 
   // After an entry found apart was appended: may its last two entries be lifted into their parent
@@ -163,68 +160,27 @@ template <class NodeTest, class LeafPair>
     if (x.a == y.a && x.b != y.b) {
       const std::uint32_t p = st.parent_b[x.b];
       if (p == kNoNode || p != st.parent_b[y.b]) return false;
-      lift = {x.a, p, std::min(x.culled, y.culled), 0, kFresh};
+      lift = {x.a, p, std::min(x.culled, y.culled), 0};
       return true;
     }
     if (x.b == y.b && x.a != y.a) {
       const std::uint32_t p = st.parent_a[x.a];
       if (p == kNoNode || p != st.parent_a[y.a]) return false;
-      lift = {p, x.b, std::min(x.culled, y.culled), 0, kFresh};
+      lift = {p, x.b, std::min(x.culled, y.culled), 0};
       return true;
     }
     return false;
   };
   const auto bump = [](std::uint16_t c) { return static_cast<std::uint16_t>(c == 0xffff ? c : c + 1); };
-  const auto is_leaf_pair = [&](const FrontEntry& e) { return ta.nodes[e.a].is_leaf() && tb.nodes[e.b].is_leaf(); };
-
-  // first_hit stopped in the pre-pass: the front stays as it is.
-  const auto stop_in_pre_pass = [&](std::size_t k) {
-    for (std::size_t j = 0; j < pre; ++j) front[j].state = kFresh;  // what the pre-pass tested
-    if (st.witness < front.size()) front[st.witness].state = kFresh;
-    front[k].state = kFresh;
-    st.witness = static_cast<std::uint32_t>(k);
-    return Walk::stop;
-  };
-  // Stopped in the main pass: the rest of the descent stack and of the old front stay untested.
-  const auto stop_in_main_pass = [&] {
-    st.witness = static_cast<std::uint32_t>(next.size() - 1);
-    for (std::size_t k = stack.size(); k-- > 0;) {
-      next.push_back(stack[k]);
-      next.back().state = kFresh;
-    }
-    for (std::size_t k = i; k < front.size(); ++k) {
-      next.push_back(front[k]);
-      next.back().state = kFresh;
-    }
-    front.swap(next);
-    return Walk::stop;
-  };
 
   for (;;) {
     // Pick the next node pair to test.
     Source source;
     FrontEntry q;
-    std::size_t pre_index = 0;
     if (root_first) {
       root_first = false;
       source = Source::root;
       q = FrontEntry{};
-    } else if (pre_pass) {
-      if (witness_next) {
-        witness_next = false;
-        pre_index = st.witness;
-      } else {
-        while (pre < front.size() && (front[pre].culled != 0 || front[pre].state != kFresh || !is_leaf_pair(front[pre])))
-          ++pre;
-        if (pre == front.size()) {
-          pre_pass = false;
-          continue;
-        }
-        pre_index = pre++;
-      }
-      if (!is_leaf_pair(front[pre_index]) || front[pre_index].state != kFresh) continue;
-      source = Source::pretest;
-      q = front[pre_index];
     } else if (lifting) {
       lifting = false;
       source = Source::lift;
@@ -236,18 +192,6 @@ template <class NodeTest, class LeafPair>
     } else if (i < front.size()) {
       source = Source::front;
       q = front[i++];
-      if (q.state != kFresh) {  // tested in the pre-pass (a leaf pair: its triangles too)
-        const bool apart = q.state == kTestedApart;
-        q.state = kFresh;
-        if (apart) {
-          q.culled = bump(q.culled);
-          next.push_back(q);
-          lifting = want_lift();
-        } else {
-          next.push_back(q);
-        }
-        continue;
-      }
     } else {
       break;
     }
@@ -257,17 +201,10 @@ template <class NodeTest, class LeafPair>
     switch (source) {
       case Source::root:
         if (!overlap) {  // apart: one test answers, and the front collapses to the roots
-          front.assign_one(FrontEntry{0, 0, 1, 0, kFresh});
-          st.witness = kNoNode;
-          return Walk::go_on;
+          front.assign_one(FrontEntry{0, 0, 1, 0});
+          return;
         }
         continue;
-      case Source::pretest: {
-        FrontEntry& e = front[pre_index];
-        e.state = overlap ? kTestedOverlap : kTestedApart;
-        if (overlap && leaves(q.a, q.b) == Walk::stop) return stop_in_pre_pass(pre_index);
-        continue;
-      }
       case Source::lift:
         if (overlap) {  // keep both siblings; back off
           FrontEntry& y = next.back();
@@ -293,33 +230,29 @@ template <class NodeTest, class LeafPair>
         q.culled = 1;
         q.level = 1;  // its parent overlapped just now: no lift before the next query
       }
-      q.state = kFresh;
       next.push_back(q);
       lifting = want_lift();
       continue;
     }
     q.culled = 0;
-    q.state = kFresh;
     const Node& na = ta.nodes[q.a];
     const Node& nb = tb.nodes[q.b];
     if (na.is_leaf() && nb.is_leaf()) {
       next.push_back(q);
-      if (leaves(q.a, q.b) == Walk::stop) return stop_in_main_pass();
+      (void)leaves(q.a, q.b);  // visits every pair: never stops
       continue;
     }
     // Split the larger node, first child popped first. Never both nodes (as traverse_pairs does for
     // nodes of about one size): a lift merges two siblings back into their parent pair.
     if (splits_a(na, nb, rule)) {
-      stack.push_back({na.first + 1, q.b, 0, 0, kFresh});
-      stack.push_back({na.first, q.b, 0, 0, kFresh});
+      stack.push_back({na.first + 1, q.b, 0, 0});
+      stack.push_back({na.first, q.b, 0, 0});
     } else {
-      stack.push_back({q.a, nb.first + 1, 0, 0, kFresh});
-      stack.push_back({q.a, nb.first, 0, 0, kFresh});
+      stack.push_back({q.a, nb.first + 1, 0, 0});
+      stack.push_back({q.a, nb.first, 0, 0});
     }
   }
-  st.witness = kNoNode;
   front.swap(next);
-  return Walk::go_on;
 }
 
 }  // namespace query_detail

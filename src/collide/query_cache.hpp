@@ -127,10 +127,10 @@ enum class Source : std::uint8_t {
 };
 
 // The descent of traverse_pairs, from the front of `st` (bound to ta, tb); rebuilds the front.
-// For the queries that visit every touching pair (all_pairs, with or without a margin): first_hit
-// tries the last hit's leaf pair and then descends from the roots (collide.cpp), as the front
-// descent's one-pair tests were slower than the cold descent's batched ones (README, "Coherent
-// sequences").
+// Used by the queries that visit every touching pair (all_pairs, with or without a margin). A
+// cached first_hit does not come here: it tries the last hit's leaf pair, then the cold descent
+// (collide.cpp), which tests in SIMD batches and nearest first and was faster than this one
+// (README, "Coherent sequences").
 // flatten (GCC, Clang; others ignore it): with the lifting paths the function outgrew GCC's
 // inlining budget, and the box test's 3x3 products and the entry pushes became calls (all_pairs on
 // the bench trajectory: 0.96x -> 1.04x of cold queries' speed at the time).

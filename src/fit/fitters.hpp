@@ -57,7 +57,9 @@ class VolumeBound {
   // The same with width_v(S) given (v . p over S, max - min).
   [[nodiscard]] double cheap(const Vec3& v, double width) const;
   // cheap() for `lanes` (even) directions (dx[i], dy[i], dz[i]) with the ranges [lo[i], hi[i]] of
-  // their projections, into out[i]: two directions per SSE2 instruction (16-byte aligned arrays).
+  // their projections, into out[i]: two directions per SSE2 instruction (16-byte aligned arrays),
+  // four per AVX instruction where the CPU has AVX and `lanes` is a multiple of 4 (grid_order.hpp;
+  // the same values bit for bit).
   void cheap_lanes(const double* dx, const double* dy, const double* dz, const double* lo, const double* hi,
                    double* out, std::size_t lanes) const;
   // True when no box with an axis along v can have a volume below `volume` (full bound).

@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "fitters.hpp"
+#include "grid_order.hpp"
 
 #if defined(__SSE2__) || defined(_M_X64)
 #include <emmintrin.h>
@@ -99,6 +100,10 @@ double VolumeBound::cheap(const Vec3& v, double width) const {
 
 void VolumeBound::cheap_lanes(const double* dx, const double* dy, const double* dz, const double* lo, const double* hi,
                               double* out, std::size_t lanes) const {
+#ifdef TIGHTBVH_AVX_GRID_ORDER
+  static const bool avx = has_avx_grid_order();
+  if (avx && lanes % 4 == 0) return cheap_bounds_avx(normals_.front().data(), count_, dx, dy, dz, lo, hi, out, lanes);
+#endif
 #ifdef TIGHTBVH_GRID_SSE2
   const __m128d sign = _mm_set1_pd(-0.0);
   for (std::size_t i = 0; i < lanes; i += 2) {
@@ -234,12 +239,16 @@ void keep_if_smaller(TopBoxes& top, int kept, const AxisBox& box) {
   top.from_bopt[at] = true;
 }
 
-// The k = 2 grid's 49 directions, padded to whole SSE2 lanes.
-constexpr std::size_t kWidthLanes = 50;
+// The k = 2 grid's 49 directions, padded to whole AVX lanes (zero directions, never read).
+constexpr std::size_t kWidthLanes = 52;
 
 // Per direction i (dx[i], dy[i], dz[i]) the least and greatest d . p over the points.
 void projection_ranges(std::span<const Vec3> points, const double* dx, const double* dy, const double* dz, double* lo,
                        double* hi) {
+#ifdef TIGHTBVH_AVX_GRID_ORDER
+  static const bool avx = has_avx_grid_order();
+  if (avx) return projection_ranges_avx(points.front().data(), points.size(), dx, dy, dz, lo, hi, kWidthLanes);
+#endif
 #ifdef TIGHTBVH_GRID_SSE2
   for (std::size_t i = 0; i < kWidthLanes; i += 2) {
     const __m128d ax = _mm_load_pd(dx + i), ay = _mm_load_pd(dy + i), az = _mm_load_pd(dz + i);
@@ -278,16 +287,17 @@ TopBoxes scan_grid(const HullGeometry& g, const AxisBox& bstar, const VolumeBoun
   auto& order = scratch.grid_order;
   order.clear();
   if (grid.size() <= kWidthLanes) {
-    // The widths along all directions in one pass over the points, two directions per SSE2
-    // instruction: the same rounded projections as a scalar loop (no FMA), so the same order.
-    alignas(16) double dx[kWidthLanes] = {}, dy[kWidthLanes] = {}, dz[kWidthLanes] = {};
-    alignas(16) double lo[kWidthLanes], hi[kWidthLanes];
+    // The widths along all directions in one pass over the points, four directions per AVX
+    // instruction (grid_order.hpp) or two per SSE2 one: the same rounded projections as a scalar
+    // loop (no FMA), so the same order.
+    alignas(32) double dx[kWidthLanes] = {}, dy[kWidthLanes] = {}, dz[kWidthLanes] = {};
+    alignas(32) double lo[kWidthLanes], hi[kWidthLanes];
     for (std::size_t i = 0; i < grid.size(); ++i) {
       const Vec3 v = basis * Vec3(grid[i][0], grid[i][1], grid[i][2]);
       dx[i] = v.x(), dy[i] = v.y(), dz[i] = v.z();
     }
     projection_ranges(g.local, dx, dy, dz, lo, hi);
-    alignas(16) double lower[kWidthLanes];
+    alignas(32) double lower[kWidthLanes];
     bound.cheap_lanes(dx, dy, dz, lo, hi, lower, kWidthLanes);
     for (std::uint32_t i = 0; i < grid.size(); ++i) {
       const Vec3 v(dx[i], dy[i], dz[i]);

@@ -299,10 +299,25 @@ TopBoxes scan_grid(const HullGeometry& g, const AxisBox& bstar, const VolumeBoun
     projection_ranges(g.local, dx, dy, dz, lo, hi);
     alignas(32) double lower[kWidthLanes];
     bound.cheap_lanes(dx, dy, dz, lo, hi, lower, kWidthLanes);
-    for (std::uint32_t i = 0; i < grid.size(); ++i) {
-      const Vec3 v(dx[i], dy[i], dz[i]);
-      if (v.squaredNorm() > 0.0) order.emplace_back(lower[i], i);
+    // The directions in increasing order of (bound, index), as sorting the pairs below would, but
+    // picked one at a time: the scan stops after a few of the 49 (a sort of all of them was ~2% of
+    // an approx tree build). Picked and zero directions get an infinite bound.
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    const std::size_t count = grid.size();
+    for (std::size_t i = 0; i < count; ++i)
+      if (!(Vec3(dx[i], dy[i], dz[i]).squaredNorm() > 0.0)) lower[i] = kInf;
+    for (;;) {
+      std::size_t at = 0;
+      double least = lower[0];
+      for (std::size_t i = 1; i < count; ++i)
+        if (lower[i] < least) least = lower[i], at = i;
+      if (!(least < kInf) || least * (1.0 - 1e-9) >= top.volume[kept - 1]) break;
+      lower[at] = kInf;
+      const Vec3 v(dx[at], dy[at], dz[at]);
+      if (bound.excludes(v, top.volume[kept - 1])) continue;
+      keep_if_smaller(top, kept, bopt(g, v, scratch));
     }
+    return top;
   } else {
     for (std::uint32_t i = 0; i < grid.size(); ++i) {
       const Vec3 v = basis * Vec3(grid[i][0], grid[i][1], grid[i][2]);

@@ -314,7 +314,9 @@ TopBoxes scan_grid(const HullGeometry& g, const AxisBox& bstar, const VolumeBoun
       if (!(least < kInf) || least * (1.0 - 1e-9) >= top.volume[kept - 1]) break;
       lower[at] = kInf;
       const Vec3 v(dx[at], dy[at], dz[at]);
-      if (bound.excludes(v, top.volume[kept - 1])) continue;
+      // Without a hull the full bound is the cheap one, the same value as `least` (the same
+      // operations on the same extent), so it cannot skip what the test above kept.
+      if (g.hull != nullptr && bound.excludes(v, top.volume[kept - 1])) continue;
       keep_if_smaller(top, kept, bopt(g, v, scratch));
     }
     return top;

@@ -44,9 +44,13 @@ VolumeBound::VolumeBound(const HullGeometry& g, const AxisBox& bstar) : g_(g) {
   for (int axis = 0; axis < 3; ++axis) {
     const Vec3 a = bstar.axes.col(axis);
     extreme[2 * axis] = extreme[2 * axis + 1] = g.local[0];
+    // The extremes' projections kept, not taken again at every comparison: the same values (a
+    // product is rounded the same way every time), so the same points.
+    double lo = a.dot(g.local[0]), hi = lo;
     for (const Vec3& p : g.local) {
-      if (a.dot(p) < a.dot(extreme[2 * axis])) extreme[2 * axis] = p;
-      if (a.dot(p) > a.dot(extreme[2 * axis + 1])) extreme[2 * axis + 1] = p;
+      const double t = a.dot(p);
+      if (t < lo) lo = t, extreme[2 * axis] = p;
+      if (t > hi) hi = t, extreme[2 * axis + 1] = p;
     }
   }
   // Small sets repeat extreme points (a point extreme along two axes): their triangles are

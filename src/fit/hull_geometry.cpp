@@ -17,6 +17,7 @@ void HullGeometry::reset(const ConvexHull3& h, const Vec3& o) {
   for (std::size_t i = 0; i < local.size(); ++i) local[i] = h.vertices[i] - o;
   face_adjacent.clear();
   vertex_face.clear();
+  walk_hint = 0;
   if (h.faces.size() < kWalkFaces) return;
   // Each edge lists its vertices as its face[0] does (counter-clockwise seen from outside);
   // face[1] has them the other way round.
@@ -55,6 +56,7 @@ void HullGeometry::reset_points(std::span<const Vec3> points, const Vec3& o) {
   hull = nullptr;
   face_adjacent.clear();
   vertex_face.clear();
+  walk_hint = 0;
   origin = o;
   local.resize(points.size());
   for (std::size_t i = 0; i < local.size(); ++i) local[i] = points[i] - o;

@@ -310,11 +310,21 @@ TopBoxes scan_grid(const HullGeometry& g, const AxisBox& bstar, const VolumeBoun
     const std::size_t count = grid.size();
     for (std::size_t i = 0; i < count; ++i)
       if (!(Vec3(dx[i], dy[i], dz[i]).squaredNorm() > 0.0)) lower[i] = kInf;
+    for (std::size_t i = count; i < kWidthLanes; ++i) lower[i] = kInf;
     for (;;) {
       std::size_t at = 0;
       double least = lower[0];
+#ifdef TIGHTBVH_GRID_SSE2
+      // The least bound two lanes at a time (min_pd(x, m) keeps m where x is NaN, as the scalar
+      // loop skips it), then its first index.
+      __m128d m = _mm_load_pd(lower);
+      for (std::size_t i = 2; i < kWidthLanes; i += 2) m = _mm_min_pd(_mm_load_pd(lower + i), m);
+      least = std::min(_mm_cvtsd_f64(m), _mm_cvtsd_f64(_mm_unpackhi_pd(m, m)));
+      while (at + 1 < count && !(lower[at] == least)) ++at;
+#else
       for (std::size_t i = 1; i < count; ++i)
         if (lower[i] < least) least = lower[i], at = i;
+#endif
       if (!(least < kInf) || least * (1.0 - 1e-9) >= top.volume[kept - 1]) break;
       lower[at] = kInf;
       const Vec3 v(dx[at], dy[at], dz[at]);

@@ -142,6 +142,34 @@ TEST(GridOrder, ScanIsTheMinimumOverTheGrid) {
   EXPECT_GT(checked, 900u);
 }
 
+// Bopt on hull-free sets of <= 5 points takes the rectangle from the pair search
+// (min_area_rect_of_points, bopt.cpp's kPairSearchMax): every pair direction gives a rectangle
+// containing the projection and one of them is the calipers' hull edge (Freeman & Shapira), so the
+// box has Bopt's volume on the hull geometry (silhouette and calipers) up to rounding.
+TEST(GridOrder, PairSearchBoptIsTheHullBopt) {
+  std::size_t compared = 0;
+  for (const auto& points : small_sets()) {
+    const ConvexHull3 hull = convex_hull(points);
+    if (hull.dimension != 3 || hull.vertices.size() > 5) continue;
+    HullGeometry with_hull, without_hull;
+    with_hull.reset(hull, points[0]);
+    without_hull.reset_points(hull.vertices, points[0]);
+    fit_detail::BoptScratch scratch;
+    for (const Vec3& v : directions(points.size() + 2000, 120)) {
+      const fit_detail::AxisBox a = fit_detail::bopt(without_hull, v, scratch);
+      const fit_detail::AxisBox b = fit_detail::bopt(with_hull, v, scratch);
+      EXPECT_NEAR(a.volume(), b.volume(), 1e-12 * b.volume()) << points.size() << " points";
+      // The box holds every point (local coordinates: the projections lie in [lo, hi]).
+      for (const Vec3& p : without_hull.local) {
+        const Vec3 q = a.axes.transpose() * p;
+        EXPECT_TRUE((q.array() >= a.lo.array() - 1e-12).all() && (q.array() <= a.hi.array() + 1e-12).all());
+      }
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 1000u);
+}
+
 // Bopt's silhouette walk starts from where its last climb ended on the same geometry: a node's
 // box must not depend on what the workspace fitted before (trees are the same on any number of
 // threads). Every fifth node of knot1 (hulls up to hundreds of vertices, walked on the face

@@ -9,6 +9,14 @@
 #include <emmintrin.h>
 #define TIGHTBVH_MIN_RECT_SSE2 1
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#define TIGHTBVH_MIN_RECT_AVX 1
+namespace tightbvh::detail {
+// min_rect_avx.cpp: the pair loop below, four directions per AVX instruction.
+void pair_areas_avx(const double* px, const double* py, std::size_t n, const double* ex, const double* ey,
+                    std::size_t pairs, double* area);
+}  // namespace tightbvh::detail
+#endif
 
 namespace tightbvh {
 namespace {
@@ -111,13 +119,19 @@ Rect2 min_area_rect_of_points(std::span<const Vec2> points) {
     // rectangle bit for bit; the areas are then compared in the scalar loop's order.
     constexpr std::size_t kPairs = kMinAreaRectOfPointsMax * (kMinAreaRectOfPointsMax - 1) / 2;
     alignas(16) double px[kMinAreaRectOfPointsMax], py[kMinAreaRectOfPointsMax];
-    alignas(16) double ex[kPairs + 1] = {}, ey[kPairs + 1] = {}, area[kPairs + 1];
+    alignas(16) double ex[kPairs + 4] = {}, ey[kPairs + 4] = {}, area[kPairs + 4];
     for (std::size_t k = 0; k < n; ++k) px[k] = points[k].x(), py[k] = points[k].y();
     std::size_t pairs = 0;
     for (std::size_t i = 0; i < n; ++i)
       for (std::size_t j = i + 1; j < n; ++j, ++pairs) ex[pairs] = px[j] - px[i], ey[pairs] = py[j] - py[i];
     const __m128d sign = _mm_set1_pd(-0.0);
+#ifdef TIGHTBVH_MIN_RECT_AVX
+    static const bool avx = __builtin_cpu_supports("avx");
+    if (avx) detail::pair_areas_avx(px, py, n, ex, ey, pairs, area);
+    for (std::size_t q = 0; q < pairs && !avx; q += 2) {
+#else
     for (std::size_t q = 0; q < pairs; q += 2) {
+#endif
       const __m128d x = _mm_load_pd(ex + q), y = _mm_load_pd(ey + q);
       const __m128d my = _mm_xor_pd(y, sign);  // v = (-ey, ex), negated as the scalar loop does
       const auto along = [&](std::size_t k) {

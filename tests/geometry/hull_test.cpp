@@ -653,6 +653,50 @@ TEST(MinRect, OfPointsMatchesHullAndCalipers) {
   }
 }
 
+// min_area_rect_of_points takes its pair directions in SSE2 or AVX lanes: the same rectangle, bit
+// for bit, as the plain loop over the pairs (the first pair of least area), which the
+// normal-bopt and auto trees were built with; repeated, collinear and far-away points included.
+TEST(MinRect, OfPointsLanesAreTheScalarLoopBitForBit) {
+  std::mt19937_64 rng(29);
+  std::normal_distribution<double> normal;
+  for (int trial = 0; trial < 800; ++trial) {
+    const std::size_t n = 1 + trial % kMinAreaRectOfPointsMax;
+    std::vector<Vec2> pts(n);
+    for (auto& p : pts) p = Vec2(normal(rng), 0.3 * normal(rng));
+    if (trial % 7 == 1 && n > 2) pts[n - 1] = pts[1];                                      // repeated
+    if (trial % 7 == 2) for (auto& p : pts) p = Vec2(p.x(), -0.5 * p.x() + 3.0);           // collinear
+    if (trial % 7 == 3) for (auto& p : pts) p += Vec2(1e6, -2e6);                          // far away
+    if (trial % 7 == 4) for (auto& p : pts) p = Vec2(std::round(4 * p.x()), std::round(4 * p.y()));  // ties
+    double best_area = std::numeric_limits<double>::infinity();
+    Vec2 best = Vec2::Zero();
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = i + 1; j < n; ++j) {
+        const Vec2 e = pts[j] - pts[i];
+        const double len2 = e.squaredNorm();
+        if (!(len2 > 0.0)) continue;
+        const Vec2 v(-e.y(), e.x());
+        double u_lo = e.dot(pts[0]), u_hi = u_lo, v_lo = v.dot(pts[0]), v_hi = v_lo;
+        for (std::size_t k = 1; k < n; ++k) {
+          u_lo = std::min(u_lo, e.dot(pts[k])), u_hi = std::max(u_hi, e.dot(pts[k]));
+          v_lo = std::min(v_lo, v.dot(pts[k])), v_hi = std::max(v_hi, v.dot(pts[k]));
+        }
+        const double area = (u_hi - u_lo) * (v_hi - v_lo) / len2;
+        if (area < best_area) best_area = area, best = e;
+      }
+    const Vec2 axis = best.norm() > 0.0 ? Vec2(best / best.norm()) : Vec2::UnitX();
+    const Rect2 rect = min_area_rect_of_points(pts);
+    EXPECT_EQ(rect.axis, axis) << "trial " << trial;
+    const Vec2 perp(-axis.y(), axis.x());
+    Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const Vec2& p : pts) {
+      const Vec2 q(axis.dot(p), perp.dot(p));
+      lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+    }
+    EXPECT_EQ(rect.min, lo) << "trial " << trial;
+    EXPECT_EQ(rect.max, hi) << "trial " << trial;
+  }
+}
+
 // Every fitter gives a valid box containing the points (fit_points), never an error.
 void expect_every_fitter_contains(std::span<const Vec3> points, const std::string& what) {
   for (const char* name : {"aabb", "pca", "pca-vertex", "diameter", "approx", "approx-snap", "exact"}) {

@@ -51,11 +51,12 @@ AxisBox project_all(std::span<const Vec3> points, const Vec3& origin, const Vec3
 
 // Bopt for a geometry without hull: project every point, extents along v by a scan.
 // Hull-free sets of at most this many points take their rectangle from min_area_rect_of_points
-// (its <= 10 pair directions two per SSE2 instruction) instead of the 2D hull's sort and the
-// calipers: the same minimum area up to rounding. Measured on approx trees (instructions of
-// build()): 5 points: knot1 -1.0%, cow -1.6%; 4: -0.5%, -0.9%; 6: -0.9%, -1.4%; and up to 8
-// with the scalar pair loop +4% (README, "Tree builder").
-constexpr std::size_t kPairSearchMax = 5;
+// (its <= 15 pair directions four per AVX instruction, two per SSE2 one) instead of the 2D hull's
+// sort and the calipers: the same minimum area up to rounding. Measured on approx trees
+// (instructions of build(), AVX): 6 points: knot1 -1.4%, cow -2.2%; 5: -1.0%, -1.6%; 7 and 8
+// gain no more, and with SSE2 lanes alone 6 is where the pairs stop paying (README, "Tree
+// builder"). One threshold for all CPUs, so that trees do not depend on the instruction set.
+constexpr std::size_t kPairSearchMax = 6;
 static_assert(kPairSearchMax <= kMinAreaRectOfPointsMax);
 
 AxisBox bopt_points(const HullGeometry& g, const Vec3& v, BoptScratch& s) {

@@ -142,7 +142,7 @@ TEST(GridOrder, ScanIsTheMinimumOverTheGrid) {
   EXPECT_GT(checked, 900u);
 }
 
-// Bopt on hull-free sets of <= 5 points takes the rectangle from the pair search
+// Bopt on hull-free sets of <= 6 points takes the rectangle from the pair search
 // (min_area_rect_of_points, bopt.cpp's kPairSearchMax): every pair direction gives a rectangle
 // containing the projection and one of them is the calipers' hull edge (Freeman & Shapira), so the
 // box has Bopt's volume on the hull geometry (silhouette and calipers) up to rounding.
@@ -150,7 +150,7 @@ TEST(GridOrder, PairSearchBoptIsTheHullBopt) {
   std::size_t compared = 0;
   for (const auto& points : small_sets()) {
     const ConvexHull3 hull = convex_hull(points);
-    if (hull.dimension != 3 || hull.vertices.size() > 5) continue;
+    if (hull.dimension != 3 || hull.vertices.size() > 6) continue;
     HullGeometry with_hull, without_hull;
     with_hull.reset(hull, points[0]);
     without_hull.reset_points(hull.vertices, points[0]);

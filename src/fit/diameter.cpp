@@ -1,4 +1,5 @@
 // B*(S), Barequet & Har-Peled Lemma 6.3.1.
+#include <array>
 #include <cmath>
 
 #include "fitters.hpp"
@@ -57,10 +58,17 @@ AxisBox lemma_box(const HullGeometry& g, BoptScratch& scratch) {
   std::vector<Vec2>& q = scratch.plane;
   q.resize(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) q[i] = Vec2(u.dot(p[i]), w.dot(p[i]));
-  const auto st2 = approx_diameter(q, q.size(), 8, [](int d) {
-    const double angle = d * (3.14159265358979323846 / 8.0);
-    return Vec2(std::cos(angle), std::sin(angle));
-  });
+  // The 8 directions d pi / 8 of the plane, evaluated once (the same values as evaluating them
+  // at every call, which cost 16 sincos per fit: ~1% of an approx tree build).
+  static const std::array<Vec2, 8> kPlaneDirs = [] {
+    std::array<Vec2, 8> dirs;
+    for (int d = 0; d < 8; ++d) {
+      const double angle = d * (3.14159265358979323846 / 8.0);
+      dirs[d] = Vec2(std::cos(angle), std::sin(angle));
+    }
+    return dirs;
+  }();
+  const auto st2 = approx_diameter(q, q.size(), 8, [](int d) { return kPlaneDirs[d]; });
   Vec2 d2 = q[st2[1]] - q[st2[0]];
   if (!(d2.norm() > 0.0)) d2 = Vec2::UnitX();
   d2.normalize();

@@ -57,7 +57,9 @@ class VolumeBound {
   // The same with width_v(S) given (v . p over S, max - min).
   [[nodiscard]] double cheap(const Vec3& v, double width) const;
   // cheap() for `lanes` (even) directions (dx[i], dy[i], dz[i]) with the ranges [lo[i], hi[i]] of
-  // their projections, into out[i]: two directions per SSE2 instruction (16-byte aligned arrays).
+  // their projections, into out[i]: two directions per SSE2 instruction (16-byte aligned arrays),
+  // four per AVX instruction where the CPU has AVX and `lanes` is a multiple of 4 (grid_order.hpp;
+  // the same values bit for bit).
   void cheap_lanes(const double* dx, const double* dy, const double* dz, const double* lo, const double* hi,
                    double* out, std::size_t lanes) const;
   // True when no box with an axis along v can have a volume below `volume` (full bound).
@@ -86,6 +88,21 @@ inline constexpr std::size_t kFourStartsFrom = 64;
 inline constexpr std::size_t kTiltFrom = 32;
 [[nodiscard]] int improvement_starts(std::size_t n, Extras extras);
 
+// The scan's cost on tree nodes (measured on the approx trees of the 10 build-bench meshes, README
+// "Tree builder"), without changing what it returns (Section 6.4's minimum over the grid):
+// - Its ordering pass (the projection ranges and cheap bounds of the 49 directions) takes AVX lanes
+//   where the CPU has them (grid_order.hpp; the same values bit for bit as the SSE2 loops, so the
+//   same order on every x86-64), and the directions are picked in order of their bound one at a
+//   time (the scan stops after a few), not sorted.
+// - On sets without hull the full bound is not evaluated before Bopt: it equals the cheap bound
+//   that was just tested (VolumeBound: no faces to add).
+// - Bopt on hull-free sets of at most 6 points (bopt.cpp, kPairSearchMax) takes its rectangle from
+//   the pair search of min_area_rect_of_points instead of the 2D hull and the calipers. Bopt of
+//   Section 6.3 needs the minimum-area rectangle of the projection; one of its sides is flush with
+//   a hull edge (Freeman & Shapira), every pair direction gives a rectangle containing the
+//   projection, so the least over the pairs is that minimum (up to rounding and ties: the trees'
+//   sums of volumes moved by at most 0.0012%), and up to 15 pairs in AVX lanes cost less than the
+//   sort.
 // GridSearchMinVolBbx (Section 6.4, Fig. 6.3): Bopt(S, {v}) for every primitive direction v
 // of Grid(B*(S)) (B*(S) = lemma_box, the box of Lemma 6.3.3 that Section 6.4 prescribes) with
 // L-inf norm <= k, keep the smallest (its (1 + eps) guarantee); then (if `improve`) the local

@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "fitters.hpp"
+#include "grid_order.hpp"
 
 #if defined(__SSE2__) || defined(_M_X64)
 #include <emmintrin.h>
@@ -43,9 +44,13 @@ VolumeBound::VolumeBound(const HullGeometry& g, const AxisBox& bstar) : g_(g) {
   for (int axis = 0; axis < 3; ++axis) {
     const Vec3 a = bstar.axes.col(axis);
     extreme[2 * axis] = extreme[2 * axis + 1] = g.local[0];
+    // The extremes' projections kept, not taken again at every comparison: the same values (a
+    // product is rounded the same way every time), so the same points.
+    double lo = a.dot(g.local[0]), hi = lo;
     for (const Vec3& p : g.local) {
-      if (a.dot(p) < a.dot(extreme[2 * axis])) extreme[2 * axis] = p;
-      if (a.dot(p) > a.dot(extreme[2 * axis + 1])) extreme[2 * axis + 1] = p;
+      const double t = a.dot(p);
+      if (t < lo) lo = t, extreme[2 * axis] = p;
+      if (t > hi) hi = t, extreme[2 * axis + 1] = p;
     }
   }
   // Small sets repeat extreme points (a point extreme along two axes): their triangles are
@@ -99,6 +104,10 @@ double VolumeBound::cheap(const Vec3& v, double width) const {
 
 void VolumeBound::cheap_lanes(const double* dx, const double* dy, const double* dz, const double* lo, const double* hi,
                               double* out, std::size_t lanes) const {
+#ifdef TIGHTBVH_AVX_GRID_ORDER
+  static const bool avx = has_avx_grid_order();
+  if (avx && lanes % 4 == 0) return cheap_bounds_avx(normals_.front().data(), count_, dx, dy, dz, lo, hi, out, lanes);
+#endif
 #ifdef TIGHTBVH_GRID_SSE2
   const __m128d sign = _mm_set1_pd(-0.0);
   for (std::size_t i = 0; i < lanes; i += 2) {
@@ -126,6 +135,26 @@ double VolumeBound::operator()(const Vec3& v) const {
   // Four partial sums: independent additions (the compiler may not reassociate them).
   double area[4] = {0.0, 0.0, 0.0, 0.0};
   int i = 0;
+#ifdef TIGHTBVH_GRID_SSE2
+  // Partial sums 0, 1 in one register and 2, 3 in another: the same products, sums and order as
+  // the scalar loop below, two groups per instruction (the area vectors are consecutive x, y, z).
+  {
+    const __m128d vx = _mm_set1_pd(v.x()), vy = _mm_set1_pd(v.y()), vz = _mm_set1_pd(v.z());
+    const __m128d sign = _mm_set1_pd(-0.0);
+    const auto two = [&](const double* p) {  // |a . v| of the area vectors at p and p + 3
+      const __m128d a = _mm_loadu_pd(p), b = _mm_loadu_pd(p + 2), c = _mm_loadu_pd(p + 4);
+      const __m128d x = _mm_shuffle_pd(a, b, 2), y = _mm_shuffle_pd(a, c, 1), z = _mm_shuffle_pd(b, c, 2);
+      return _mm_andnot_pd(sign, _mm_add_pd(_mm_add_pd(_mm_mul_pd(x, vx), _mm_mul_pd(y, vy)), _mm_mul_pd(z, vz)));
+    };
+    __m128d sum01 = _mm_setzero_pd(), sum23 = _mm_setzero_pd();
+    for (; i + 4 <= area_count_; i += 4) {
+      sum01 = _mm_add_pd(sum01, two(areas_[i].data()));
+      sum23 = _mm_add_pd(sum23, two(areas_[i + 2].data()));
+    }
+    _mm_storeu_pd(area, sum01);
+    _mm_storeu_pd(area + 2, sum23);
+  }
+#endif
   for (; i + 4 <= area_count_; i += 4)
     for (int j = 0; j < 4; ++j) area[j] += std::abs(areas_[i + j].dot(v));
   for (; i < area_count_; ++i) area[0] += std::abs(areas_[i].dot(v));
@@ -214,12 +243,16 @@ void keep_if_smaller(TopBoxes& top, int kept, const AxisBox& box) {
   top.from_bopt[at] = true;
 }
 
-// The k = 2 grid's 49 directions, padded to whole SSE2 lanes.
-constexpr std::size_t kWidthLanes = 50;
+// The k = 2 grid's 49 directions, padded to whole AVX lanes (zero directions, never read).
+constexpr std::size_t kWidthLanes = 52;
 
 // Per direction i (dx[i], dy[i], dz[i]) the least and greatest d . p over the points.
 void projection_ranges(std::span<const Vec3> points, const double* dx, const double* dy, const double* dz, double* lo,
                        double* hi) {
+#ifdef TIGHTBVH_AVX_GRID_ORDER
+  static const bool avx = has_avx_grid_order();
+  if (avx) return projection_ranges_avx(points.front().data(), points.size(), dx, dy, dz, lo, hi, kWidthLanes);
+#endif
 #ifdef TIGHTBVH_GRID_SSE2
   for (std::size_t i = 0; i < kWidthLanes; i += 2) {
     const __m128d ax = _mm_load_pd(dx + i), ay = _mm_load_pd(dy + i), az = _mm_load_pd(dz + i);
@@ -258,21 +291,49 @@ TopBoxes scan_grid(const HullGeometry& g, const AxisBox& bstar, const VolumeBoun
   auto& order = scratch.grid_order;
   order.clear();
   if (grid.size() <= kWidthLanes) {
-    // The widths along all directions in one pass over the points, two directions per SSE2
-    // instruction: the same rounded projections as a scalar loop (no FMA), so the same order.
-    alignas(16) double dx[kWidthLanes] = {}, dy[kWidthLanes] = {}, dz[kWidthLanes] = {};
-    alignas(16) double lo[kWidthLanes], hi[kWidthLanes];
+    // The widths along all directions in one pass over the points, four directions per AVX
+    // instruction (grid_order.hpp) or two per SSE2 one: the same rounded projections as a scalar
+    // loop (no FMA), so the same order.
+    alignas(32) double dx[kWidthLanes] = {}, dy[kWidthLanes] = {}, dz[kWidthLanes] = {};
+    alignas(32) double lo[kWidthLanes], hi[kWidthLanes];
     for (std::size_t i = 0; i < grid.size(); ++i) {
       const Vec3 v = basis * Vec3(grid[i][0], grid[i][1], grid[i][2]);
       dx[i] = v.x(), dy[i] = v.y(), dz[i] = v.z();
     }
     projection_ranges(g.local, dx, dy, dz, lo, hi);
-    alignas(16) double lower[kWidthLanes];
+    alignas(32) double lower[kWidthLanes];
     bound.cheap_lanes(dx, dy, dz, lo, hi, lower, kWidthLanes);
-    for (std::uint32_t i = 0; i < grid.size(); ++i) {
-      const Vec3 v(dx[i], dy[i], dz[i]);
-      if (v.squaredNorm() > 0.0) order.emplace_back(lower[i], i);
+    // The directions in increasing order of (bound, index), as sorting the pairs below would, but
+    // picked one at a time: the scan stops after a few of the 49 (a sort of all of them was ~2% of
+    // an approx tree build). Picked and zero directions get an infinite bound.
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    const std::size_t count = grid.size();
+    for (std::size_t i = 0; i < count; ++i)
+      if (!(Vec3(dx[i], dy[i], dz[i]).squaredNorm() > 0.0)) lower[i] = kInf;
+    for (std::size_t i = count; i < kWidthLanes; ++i) lower[i] = kInf;
+    for (;;) {
+      std::size_t at = 0;
+      double least = lower[0];
+#ifdef TIGHTBVH_GRID_SSE2
+      // The least bound two lanes at a time (min_pd(x, m) keeps m where x is NaN, as the scalar
+      // loop skips it), then its first index.
+      __m128d m = _mm_load_pd(lower);
+      for (std::size_t i = 2; i < kWidthLanes; i += 2) m = _mm_min_pd(_mm_load_pd(lower + i), m);
+      least = std::min(_mm_cvtsd_f64(m), _mm_cvtsd_f64(_mm_unpackhi_pd(m, m)));
+      while (at + 1 < count && !(lower[at] == least)) ++at;
+#else
+      for (std::size_t i = 1; i < count; ++i)
+        if (lower[i] < least) least = lower[i], at = i;
+#endif
+      if (!(least < kInf) || least * (1.0 - 1e-9) >= top.volume[kept - 1]) break;
+      lower[at] = kInf;
+      const Vec3 v(dx[at], dy[at], dz[at]);
+      // Without a hull the full bound is the cheap one, the same value as `least` (the same
+      // operations on the same extent), so it cannot skip what the test above kept.
+      if (g.hull != nullptr && bound.excludes(v, top.volume[kept - 1])) continue;
+      keep_if_smaller(top, kept, bopt(g, v, scratch));
     }
+    return top;
   } else {
     for (std::uint32_t i = 0; i < grid.size(); ++i) {
       const Vec3 v = basis * Vec3(grid[i][0], grid[i][1], grid[i][2]);

@@ -26,6 +26,9 @@ struct HullGeometry {
   static constexpr std::size_t kWalkFaces = 48;
   std::vector<std::array<std::uint32_t, 3>> face_adjacent;
   std::vector<std::uint32_t> vertex_face;
+  // Bopt's silhouette walk: where its last climb to the vertex farthest along u ended (reset with
+  // the geometry, so the walks of one fit depend only on that fit's own calls).
+  mutable std::uint32_t walk_hint = 0;
 
   void reset(const ConvexHull3& h, const Vec3& o);
   void reset_points(std::span<const Vec3> points, const Vec3& o);

@@ -5,6 +5,19 @@
 #include <cmath>
 #include <limits>
 
+#if defined(__SSE2__) || defined(_M_X64)
+#include <emmintrin.h>
+#define TIGHTBVH_MIN_RECT_SSE2 1
+#endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#define TIGHTBVH_MIN_RECT_AVX 1
+namespace tightbvh::detail {
+// min_rect_avx.cpp: the pair loop below, four directions per AVX instruction.
+void pair_areas_avx(const double* px, const double* py, std::size_t n, const double* ex, const double* ey,
+                    std::size_t pairs, double* area);
+}  // namespace tightbvh::detail
+#endif
+
 namespace tightbvh {
 namespace {
 
@@ -99,22 +112,67 @@ Rect2 min_area_rect_of_points(std::span<const Vec2> points) {
   // |e|^2; the first direction of the smallest area wins.
   double best_area = std::numeric_limits<double>::infinity();
   Vec2 best = Vec2::Zero();
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = i + 1; j < n; ++j) {
-      const Vec2 e = points[j] - points[i];
-      const double len2 = e.squaredNorm();
-      if (!(len2 > 0.0)) continue;
-      const Vec2 v(-e.y(), e.x());
-      // The spans of the points' own projections (the callers' points are near their origin).
-      double u_lo = e.dot(points[0]), u_hi = u_lo, v_lo = v.dot(points[0]), v_hi = v_lo;
+#ifdef TIGHTBVH_MIN_RECT_SSE2
+  if (n <= kMinAreaRectOfPointsMax) {
+    // Two pair directions per SSE2 instruction: the same products, sums, spans and areas as the
+    // scalar loop below (e . p = ex px + ey py, min_pd(q, lo) = std::min(lo, q)), so the same
+    // rectangle bit for bit; the areas are then compared in the scalar loop's order.
+    constexpr std::size_t kPairs = kMinAreaRectOfPointsMax * (kMinAreaRectOfPointsMax - 1) / 2;
+    alignas(16) double px[kMinAreaRectOfPointsMax], py[kMinAreaRectOfPointsMax];
+    alignas(16) double ex[kPairs + 4] = {}, ey[kPairs + 4] = {}, area[kPairs + 4];
+    for (std::size_t k = 0; k < n; ++k) px[k] = points[k].x(), py[k] = points[k].y();
+    std::size_t pairs = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = i + 1; j < n; ++j, ++pairs) ex[pairs] = px[j] - px[i], ey[pairs] = py[j] - py[i];
+    const __m128d sign = _mm_set1_pd(-0.0);
+#ifdef TIGHTBVH_MIN_RECT_AVX
+    static const bool avx = __builtin_cpu_supports("avx");
+    if (avx) detail::pair_areas_avx(px, py, n, ex, ey, pairs, area);
+    for (std::size_t q = 0; q < pairs && !avx; q += 2) {
+#else
+    for (std::size_t q = 0; q < pairs; q += 2) {
+#endif
+      const __m128d x = _mm_load_pd(ex + q), y = _mm_load_pd(ey + q);
+      const __m128d my = _mm_xor_pd(y, sign);  // v = (-ey, ex), negated as the scalar loop does
+      const auto along = [&](std::size_t k) {
+        return _mm_add_pd(_mm_mul_pd(x, _mm_set1_pd(px[k])), _mm_mul_pd(y, _mm_set1_pd(py[k])));
+      };
+      const auto across = [&](std::size_t k) {
+        return _mm_add_pd(_mm_mul_pd(my, _mm_set1_pd(px[k])), _mm_mul_pd(x, _mm_set1_pd(py[k])));
+      };
+      __m128d u_lo = along(0), u_hi = u_lo, v_lo = across(0), v_hi = v_lo;
       for (std::size_t k = 1; k < n; ++k) {
-        const double a = e.dot(points[k]), b = v.dot(points[k]);
-        u_lo = std::min(u_lo, a), u_hi = std::max(u_hi, a);
-        v_lo = std::min(v_lo, b), v_hi = std::max(v_hi, b);
+        const __m128d a = along(k), b = across(k);
+        u_lo = _mm_min_pd(a, u_lo), u_hi = _mm_max_pd(a, u_hi);
+        v_lo = _mm_min_pd(b, v_lo), v_hi = _mm_max_pd(b, v_hi);
       }
-      const double area = (u_hi - u_lo) * (v_hi - v_lo) / len2;
-      if (area < best_area) best_area = area, best = e;
+      const __m128d len2 = _mm_add_pd(_mm_mul_pd(x, x), _mm_mul_pd(y, y));
+      _mm_store_pd(area + q, _mm_div_pd(_mm_mul_pd(_mm_sub_pd(u_hi, u_lo), _mm_sub_pd(v_hi, v_lo)), len2));
     }
+    std::size_t at = pairs;
+    for (std::size_t q = 0; q < pairs; ++q)
+      if (ex[q] * ex[q] + ey[q] * ey[q] > 0.0 && area[q] < best_area) best_area = area[q], at = q;
+    if (at < pairs) best = Vec2(ex[at], ey[at]);
+  } else
+#endif
+  {
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = i + 1; j < n; ++j) {
+        const Vec2 e = points[j] - points[i];
+        const double len2 = e.squaredNorm();
+        if (!(len2 > 0.0)) continue;
+        const Vec2 v(-e.y(), e.x());
+        // The spans of the points' own projections (the callers' points are near their origin).
+        double u_lo = e.dot(points[0]), u_hi = u_lo, v_lo = v.dot(points[0]), v_hi = v_lo;
+        for (std::size_t k = 1; k < n; ++k) {
+          const double a = e.dot(points[k]), b = v.dot(points[k]);
+          u_lo = std::min(u_lo, a), u_hi = std::max(u_hi, a);
+          v_lo = std::min(v_lo, b), v_hi = std::max(v_hi, b);
+        }
+        const double area = (u_hi - u_lo) * (v_hi - v_lo) / len2;
+        if (area < best_area) best_area = area, best = e;
+      }
+  }
   const double len = best.norm();
   // The extents over all points along the chosen axis, as min_area_rect measures them.
   return rect_along(points, len > 0.0 ? Vec2(best / len) : Vec2::UnitX());

@@ -626,24 +626,60 @@ TEST(MinRect, BruteForceOverEdgeDirections) {
   }
 }
 
-// min_area_rect_of_points (normal-bopt's rectangle for <= 8 projected points, no hull) against
-// the hull and rotating calipers: the same area up to rounding, on random sets, sets with repeated
-// points, collinear sets and a single point; every point inside.
+// The first pair direction of least area by the plain loop over the pairs (what
+// min_area_rect_of_points computes in SSE2 or AVX lanes), as a unit axis.
+Vec2 least_pair_axis(std::span<const Vec2> pts) {
+  double best_area = std::numeric_limits<double>::infinity();
+  Vec2 best = Vec2::Zero();
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    for (std::size_t j = i + 1; j < pts.size(); ++j) {
+      const Vec2 e = pts[j] - pts[i];
+      const double len2 = e.squaredNorm();
+      if (!(len2 > 0.0)) continue;
+      const Vec2 v(-e.y(), e.x());
+      double u_lo = e.dot(pts[0]), u_hi = u_lo, v_lo = v.dot(pts[0]), v_hi = v_lo;
+      for (const Vec2& q : pts.subspan(1)) {
+        u_lo = std::min(u_lo, e.dot(q)), u_hi = std::max(u_hi, e.dot(q));
+        v_lo = std::min(v_lo, v.dot(q)), v_hi = std::max(v_hi, v.dot(q));
+      }
+      if (const double area = (u_hi - u_lo) * (v_hi - v_lo) / len2; area < best_area) best_area = area, best = e;
+    }
+  return best.norm() > 0.0 ? Vec2(best / best.norm()) : Vec2::UnitX();
+}
+
+// min_area_rect_of_points (normal-bopt's rectangle for <= 8 projected points, approx's Bopt for
+// <= 6, no hull) against the hull and rotating calipers: the same area up to rounding, on random
+// sets, sets with repeated points, collinear sets, a single point and integer points (ties); every
+// point inside. Its lanes (SSE2, AVX) give the plain pair loop's rectangle bit for bit, also on
+// sets far from the origin (where the areas, from absolute projections, are only near the
+// calipers').
 TEST(MinRect, OfPointsMatchesHullAndCalipers) {
   std::mt19937_64 rng(23);
   std::normal_distribution<double> normal;
-  for (int trial = 0; trial < 400; ++trial) {
+  for (int trial = 0; trial < 700; ++trial) {
     const std::size_t n = 1 + trial % kMinAreaRectOfPointsMax;
+    const int kind = trial % 7;
     std::vector<Vec2> pts(n);
     for (auto& p : pts) p = Vec2(normal(rng), 0.3 * normal(rng));
-    if (trial % 5 == 1 && n > 2) pts[n - 1] = pts[0];                                           // repeated
-    if (trial % 5 == 2) for (auto& p : pts) p = Vec2(p.x(), 2.0 * p.x() + 1.0);                // collinear
-    if (trial % 5 == 3) for (auto& p : pts) p = pts[0];                                         // one point
+    if (kind == 1 && n > 2) pts[n - 1] = pts[0];                                                 // repeated
+    if (kind == 2) for (auto& p : pts) p = Vec2(p.x(), 2.0 * p.x() + 1.0);                       // collinear
+    if (kind == 3) for (auto& p : pts) p = pts[0];                                               // one point
+    if (kind == 4) for (auto& p : pts) p = Vec2(std::round(4 * p.x()), std::round(4 * p.y()));  // ties
+    if (kind == 5) for (auto& p : pts) p += Vec2(1e6, -2e6);                                     // far away
     const Rect2 rect = min_area_rect_of_points(pts);
-    std::vector<Vec2> hull = pts;
-    const std::size_t m = convex_hull_2d(hull);
-    const Rect2 want = min_area_rect(std::span<const Vec2>(hull.data(), m));
-    EXPECT_NEAR(rect.area(), want.area(), 1e-12 * (1.0 + want.area())) << "trial " << trial;
+    const Vec2 axis = least_pair_axis(pts);
+    EXPECT_EQ(rect.axis, axis) << "trial " << trial;
+    const Vec2 perp(-axis.y(), axis.x());
+    Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const Vec2& p : pts) lo = lo.cwiseMin(Vec2(axis.dot(p), perp.dot(p))), hi = hi.cwiseMax(Vec2(axis.dot(p), perp.dot(p)));
+    EXPECT_EQ(rect.min, lo) << "trial " << trial;
+    EXPECT_EQ(rect.max, hi) << "trial " << trial;
+    if (kind != 5) {
+      std::vector<Vec2> hull = pts;
+      const std::size_t m = convex_hull_2d(hull);
+      const Rect2 want = min_area_rect(std::span<const Vec2>(hull.data(), m));
+      EXPECT_NEAR(rect.area(), want.area(), 1e-12 * (1.0 + want.area())) << "trial " << trial;
+    }
     EXPECT_NEAR(rect.axis.norm(), 1.0, 1e-15);
     for (const Vec2& p : pts) {
       const Vec2 q(rect.axis.dot(p), -rect.axis.y() * p.x() + rect.axis.x() * p.y());

@@ -204,13 +204,15 @@ Walk traverse_pairs(const Tree& ta, const Tree& tb, DescendRule rule, PairStack&
       n = 4;
     }
     if constexpr (nearest) {  // overlapping pairs nearest first, then the culled ones
+      bool overlap[kMaxChildPairs];
+      for (int k = 0; k < n; ++k) overlap[k] = order.overlaps(kids[k].a, kids[k].b);
       NodePair sorted[kMaxChildPairs];
       int m = 0;
       for (int k = 0; k < n; ++k)
-        if (order.overlaps(kids[k].a, kids[k].b)) sorted[m++] = kids[k];
+        if (overlap[k]) sorted[m++] = kids[k];
       if (m >= 2) sort_nearest_first(sorted, m, order.gap);
       for (int k = 0, c = m; k < n; ++k)
-        if (!order.overlaps(kids[k].a, kids[k].b)) sorted[c++] = kids[k];
+        if (!overlap[k]) sorted[c++] = kids[k];
       std::copy(sorted, sorted + n, kids);
     }
     for (int k = n - 1; k >= 0; --k) stack.push(kids[k]);

@@ -15,9 +15,12 @@ struct Rect2 {
 };
 
 // `polygon`: a convex polygon in counter-clockwise order without repeated or collinear
-// vertices (as returned by convex_hull_2d). O(n). One or two vertices give a zero-area
-// rectangle along the segment.
+// vertices (as returned by convex_hull_2d). O(n) by the calipers; small polygons (below) by a
+// branch-free O(n^2) scan. One or two vertices give a zero-area rectangle along the segment.
 [[nodiscard]] Rect2 min_area_rect(std::span<const Vec2> polygon);
+// Polygons of up to this many vertices take an O(n^2) scan of every edge's rectangle in AVX lanes
+// where the CPU has AVX (min_rect.cpp), larger ones the calipers.
+inline constexpr std::size_t kMinAreaRectEdgeScanMax = 32;
 
 // The minimum-area rectangle of a few points in any order (no hull needed): one side of it is
 // flush with a hull edge (Freeman & Shapira), and every direction through two of the points gives

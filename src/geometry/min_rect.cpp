@@ -91,6 +91,25 @@ Rect2 min_area_rect(std::span<const Vec2> polygon) {
   };
   constexpr std::size_t kTable = 64;
   std::size_t best_edge = 0;
+#ifdef TIGHTBVH_MIN_RECT_AVX
+  static const bool avx = __builtin_cpu_supports("avx");
+  if (avx && n <= kMinAreaRectEdgeScanMax) {
+    // Each edge's rectangle by a scan of all vertices, four edges per AVX instruction
+    // (pair_areas_avx with the edges as directions): O(n^2) but without the calipers' branches,
+    // which mispredict on the few-vertex polygons of Bopt's silhouettes. The same minimum up to
+    // rounding (the calipers' extremes are the scan's maxima); the rectangle is measured again below.
+    alignas(32) double px[kMinAreaRectEdgeScanMax], py[kMinAreaRectEdgeScanMax];
+    alignas(32) double ex[kMinAreaRectEdgeScanMax + 3], ey[kMinAreaRectEdgeScanMax + 3];
+    alignas(32) double area[kMinAreaRectEdgeScanMax + 3];
+    for (std::size_t i = 0; i < n; ++i) px[i] = polygon[i].x(), py[i] = polygon[i].y();
+    for (std::size_t i = 0; i < n; ++i) ex[i] = px[next(i)] - px[i], ey[i] = py[next(i)] - py[i];
+    for (std::size_t i = n; i < n + 3; ++i) ex[i] = ey[i] = 0.0;  // the last lanes' padding
+    detail::pair_areas_avx(px, py, n, ex, ey, n, area);
+    double best_area = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < n; ++i)
+      if (ex[i] * ex[i] + ey[i] * ey[i] > 0.0 && area[i] < best_area) best_area = area[i], best_edge = i;
+  } else
+#endif
   if (n <= kTable) {
     Vec2 table[kTable];
     for (std::size_t i = 0; i < n; ++i) table[i] = polygon[next(i)] - polygon[i];

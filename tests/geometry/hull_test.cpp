@@ -626,6 +626,44 @@ TEST(MinRect, BruteForceOverEdgeDirections) {
   }
 }
 
+// min_area_rect takes an edge scan in AVX lanes up to kMinAreaRectEdgeScanMax vertices (where the
+// CPU has AVX) and the calipers above: on either side of that size, convex polygons of 3 to 80
+// vertices (a rotated, squashed circle, near and far from the origin) get the least area over
+// their edge directions, brute force, up to rounding, and a rectangle containing every vertex.
+TEST(MinRect, EitherSideOfTheEdgeScanSizeMatchesBruteForce) {
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  for (std::size_t n = 3; n <= 80; ++n)
+    for (const double offset : {0.0, 1e3}) {
+      const double angle = 6.283185307179586 * uniform(rng), squash = 0.2 + 0.8 * uniform(rng);
+      const Eigen::Rotation2Dd r(angle);
+      std::vector<Vec2> poly;
+      for (std::size_t i = 0; i < n; ++i) {
+        const double t = 6.283185307179586 * (static_cast<double>(i) + 0.4 * uniform(rng)) / static_cast<double>(n);
+        poly.push_back(r * Vec2(std::cos(t), squash * std::sin(t)) + Vec2(offset, -offset));
+      }
+      ASSERT_EQ(convex_hull_2d(poly), n);  // still convex and counter-clockwise, nothing dropped
+      double brute = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < n; ++i) {
+        const Vec2 u = (poly[(i + 1) % n] - poly[i]).normalized();
+        const Vec2 v(-u.y(), u.x());
+        double a0 = 1e300, a1 = -1e300, b0 = 1e300, b1 = -1e300;
+        for (const Vec2& p : poly) {
+          a0 = std::min(a0, u.dot(p - poly[i])), a1 = std::max(a1, u.dot(p - poly[i]));
+          b0 = std::min(b0, v.dot(p - poly[i])), b1 = std::max(b1, v.dot(p - poly[i]));
+        }
+        brute = std::min(brute, (a1 - a0) * (b1 - b0));
+      }
+      const Rect2 rect = min_area_rect(poly);
+      EXPECT_NEAR(rect.area(), brute, (offset == 0.0 ? 1e-12 : 1e-9) * brute) << n << " vertices, offset " << offset;
+      for (const Vec2& p : poly) {
+        const Vec2 q(rect.axis.dot(p), -rect.axis.y() * p.x() + rect.axis.x() * p.y());
+        EXPECT_TRUE(q.x() >= rect.min.x() && q.x() <= rect.max.x()) << n;
+        EXPECT_TRUE(q.y() >= rect.min.y() && q.y() <= rect.max.y()) << n;
+      }
+    }
+}
+
 // The first pair direction of least area by the plain loop over the pairs (what
 // min_area_rect_of_points computes in SSE2 or AVX lanes), as a unit axis.
 Vec2 least_pair_axis(std::span<const Vec2> pts) {

@@ -597,6 +597,24 @@ TEST(MinRect, RotatedRectangleIsRecovered) {
   }
 }
 
+// The least area of the rectangles flush with an edge of the convex polygon `poly`, brute force
+// (each edge's rectangle over all vertices, measured from the edge's first vertex).
+double least_edge_rect_area(std::span<const Vec2> poly) {
+  const std::size_t n = poly.size();
+  double least = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 u = (poly[(i + 1) % n] - poly[i]).normalized();
+    const Vec2 v(-u.y(), u.x());
+    double a0 = 1e300, a1 = -1e300, b0 = 1e300, b1 = -1e300;
+    for (const Vec2& p : poly) {
+      a0 = std::min(a0, u.dot(p - poly[i])), a1 = std::max(a1, u.dot(p - poly[i]));
+      b0 = std::min(b0, v.dot(p - poly[i])), b1 = std::max(b1, v.dot(p - poly[i]));
+    }
+    least = std::min(least, (a1 - a0) * (b1 - b0));
+  }
+  return least;
+}
+
 TEST(MinRect, BruteForceOverEdgeDirections) {
   std::mt19937_64 rng(17);
   std::normal_distribution<double> normal;
@@ -605,17 +623,7 @@ TEST(MinRect, BruteForceOverEdgeDirections) {
     for (auto& p : pts) p = Vec2(normal(rng), 0.3 * normal(rng));
     const std::size_t n = convex_hull_2d(pts);
     const std::span<const Vec2> poly(pts.data(), n);
-    double brute = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec2 u = (poly[(i + 1) % n] - poly[i]).normalized();
-      const Vec2 v(-u.y(), u.x());
-      double a0 = 1e300, a1 = -1e300, b0 = 1e300, b1 = -1e300;
-      for (const Vec2& p : poly) {
-        a0 = std::min(a0, u.dot(p)), a1 = std::max(a1, u.dot(p));
-        b0 = std::min(b0, v.dot(p)), b1 = std::max(b1, v.dot(p));
-      }
-      brute = std::min(brute, (a1 - a0) * (b1 - b0));
-    }
+    const double brute = least_edge_rect_area(poly);
     const Rect2 rect = min_area_rect(poly);
     EXPECT_NEAR(rect.area(), brute, 1e-12 * brute);
     for (const Vec2& p : poly) {
@@ -643,17 +651,7 @@ TEST(MinRect, EitherSideOfTheEdgeScanSizeMatchesBruteForce) {
         poly.push_back(r * Vec2(std::cos(t), squash * std::sin(t)) + Vec2(offset, -offset));
       }
       ASSERT_EQ(convex_hull_2d(poly), n);  // still convex and counter-clockwise, nothing dropped
-      double brute = std::numeric_limits<double>::infinity();
-      for (std::size_t i = 0; i < n; ++i) {
-        const Vec2 u = (poly[(i + 1) % n] - poly[i]).normalized();
-        const Vec2 v(-u.y(), u.x());
-        double a0 = 1e300, a1 = -1e300, b0 = 1e300, b1 = -1e300;
-        for (const Vec2& p : poly) {
-          a0 = std::min(a0, u.dot(p - poly[i])), a1 = std::max(a1, u.dot(p - poly[i]));
-          b0 = std::min(b0, v.dot(p - poly[i])), b1 = std::max(b1, v.dot(p - poly[i]));
-        }
-        brute = std::min(brute, (a1 - a0) * (b1 - b0));
-      }
+      const double brute = least_edge_rect_area(poly);
       const Rect2 rect = min_area_rect(poly);
       EXPECT_NEAR(rect.area(), brute, (offset == 0.0 ? 1e-12 : 1e-9) * brute) << n << " vertices, offset " << offset;
       for (const Vec2& p : poly) {

@@ -98,6 +98,7 @@ Rect2 min_area_rect(std::span<const Vec2> polygon) {
     // (pair_areas_avx with the edges as directions): O(n^2) but without the calipers' branches,
     // which mispredict on the few-vertex polygons of Bopt's silhouettes. The same minimum up to
     // rounding (the calipers' extremes are the scan's maxima); the rectangle is measured again below.
+    // Absolute projections, as rect_along's: Bopt's polygons lie near their origin (local frames).
     alignas(32) double px[kMinAreaRectEdgeScanMax], py[kMinAreaRectEdgeScanMax];
     alignas(32) double ex[kMinAreaRectEdgeScanMax + 3], ey[kMinAreaRectEdgeScanMax + 3];
     alignas(32) double area[kMinAreaRectEdgeScanMax + 3];

@@ -642,7 +642,7 @@ TEST(MinRect, EitherSideOfTheEdgeScanSizeMatchesBruteForce) {
   std::mt19937_64 rng(29);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   for (std::size_t n = 3; n <= 80; ++n)
-    for (const double offset : {0.0, 1e3}) {
+    for (const double offset : {0.0, 1e3, 1e6}) {
       const double angle = 6.283185307179586 * uniform(rng), squash = 0.2 + 0.8 * uniform(rng);
       const Eigen::Rotation2Dd r(angle);
       std::vector<Vec2> poly;

@@ -16,6 +16,13 @@ namespace tightbvh::detail {
 void pair_areas_avx(const double* px, const double* py, std::size_t n, const double* ex, const double* ey,
                     std::size_t pairs, double* area);
 }  // namespace tightbvh::detail
+namespace {
+// Whether pair_areas_avx may run: asked of the CPU once.
+bool avx_available() {
+  static const bool avx = __builtin_cpu_supports("avx");
+  return avx;
+}
+}  // namespace
 #endif
 
 namespace tightbvh {
@@ -92,8 +99,7 @@ Rect2 min_area_rect(std::span<const Vec2> polygon) {
   constexpr std::size_t kTable = 64;
   std::size_t best_edge = 0;
 #ifdef TIGHTBVH_MIN_RECT_AVX
-  static const bool avx = __builtin_cpu_supports("avx");
-  if (avx && n <= kMinAreaRectEdgeScanMax) {
+  if (n <= kMinAreaRectEdgeScanMax && avx_available()) {
     // Each edge's rectangle by a scan of all vertices, four edges per AVX instruction
     // (pair_areas_avx with the edges as directions): O(n^2) but without the calipers' branches,
     // which mispredict on the few-vertex polygons of Bopt's silhouettes. The same minimum up to
@@ -146,7 +152,7 @@ Rect2 min_area_rect_of_points(std::span<const Vec2> points) {
       for (std::size_t j = i + 1; j < n; ++j, ++pairs) ex[pairs] = px[j] - px[i], ey[pairs] = py[j] - py[i];
     const __m128d sign = _mm_set1_pd(-0.0);
 #ifdef TIGHTBVH_MIN_RECT_AVX
-    static const bool avx = __builtin_cpu_supports("avx");
+    const bool avx = avx_available();
     if (avx) detail::pair_areas_avx(px, py, n, ex, ey, pairs, area);
     for (std::size_t q = 0; q < pairs && !avx; q += 2) {
 #else

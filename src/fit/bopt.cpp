@@ -285,7 +285,6 @@ std::size_t silhouette_sorted(const HullGeometry& g, const Vec3& a, const Vec3& 
   return convex_hull_2d(s.projected, s.chain);
 }
 
-void note_dir(const Vec3& v);
 AxisBox bopt(const HullGeometry& g, const Vec3& v, BoptScratch& s) {
   ++s.calls;
   if (g.hull == nullptr) return bopt_points(g, v, s);

@@ -53,10 +53,11 @@ struct AutoFit {
   // root keeps the scan, and with it Barequet & Har-Peled's guarantee), `medium` (approx-kernel)
   // nodes the kernel's axis improvement from those three Bopt boxes and three along the node's
   // PCA axes instead of its grid scan, and `cheap` (normal-bopt) nodes keep the box along the
-  // parent's axes where the Bopt box is larger, instead of the PCA box (so they need no moments). Measured on the ten corpus meshes of the
-  // build bench, together with tight_min_triangles 1024 (was 2048) and scale_above 32,768 (was
-  // 131,072): 15-30% fewer instructions and >= 0.9 of approx's gain on all ten (README, "The
-  // default fitter"). false: each node searches on its own, as before 2026-11-26.
+  // parent's axes where the Bopt box is larger, instead of the PCA box (so they need no moments).
+  // Measured on the ten corpus meshes of the build bench, together with tight_min_triangles 1024
+  // (was 2048) and scale_above 32,768 (was 131,072): 15-30% fewer instructions and >= 0.9 of
+  // approx's gain on all ten (README, "The default fitter"). false: each node searches on its
+  // own, as before 2026-11-26.
   bool search_from_parent = true;
   friend bool operator==(const AutoFit&, const AutoFit&) = default;
 };

@@ -2,8 +2,9 @@
 //
 //   tightbvh-build-bench [MESH...] [--repeats R] [--json FILE]
 //       per mesh, in one run: FCL BVHModel<OBB> and BVHModel<OBBRSS> builds (PCA boxes, mean
-//       split), our pca / approx / auto builds (threads = 1 unless --threads), median times,
-//       ratios, sums of node volumes and bytes per triangle (--no-tight: pca vs FCL only). Times
+//       split), our pca / approx / auto builds (threads = 1 unless --threads; built in turn, R
+//       rounds, so that approx / pca and auto / pca are medians of same-round ratios), median
+//       times, sums of node volumes and bytes per triangle (--no-tight: pca vs FCL only). Times
 //       of one-thread builds are CPU time of the thread (the machine is shared), two-thread
 //       ones wall clock.
 //   tightbvh-build-bench --splits [MESH...]      sum of volumes per split method
@@ -27,6 +28,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -121,11 +123,35 @@ struct OurResult {
   TreeStats stats;
 };
 
+// Our single-thread builds of several fitters timed in rounds (each fitter once per round, in
+// turn), so that a ratio between two of them is the median of ratios taken in the same round:
+// this shared machine's speed drifts between seconds (pca builds of 5 ms swung by +-20% when each
+// fitter's repeats ran back to back). Each result's `seconds` is still its own median.
+struct Interleaved {
+  std::vector<OurResult> results;
+  std::vector<std::vector<double>> seconds;  // [fitter][round]
+  // The median over rounds of fitter i's time over fitter j's, or NaN when either is unavailable.
+  [[nodiscard]] double ratio(std::size_t i, std::size_t j) const {
+    if (!results[i].ok || !results[j].ok) return std::numeric_limits<double>::quiet_NaN();
+    std::vector<double> r;
+    for (std::size_t k = 0; k < seconds[i].size(); ++k) r.push_back(seconds[i][k] / seconds[j][k]);
+    std::sort(r.begin(), r.end());
+    return r[r.size() / 2];
+  }
+};
+
+Interleaved interleaved_builds(const Mesh& mesh, const std::vector<BuildOptions>& options, int repeats);
+
+// Whether this build's fitters exist in this build of the library (some need optional dependencies).
+bool fitter_available(const BuildOptions& options) {
+  if (const auto* m = std::get_if<FitMethod>(&options.fitter)) return available(*m);
+  const AutoFit& a = std::get<AutoFit>(options.fitter);
+  return available(a.tight) && available(a.medium) && available(a.cheap);
+}
+
 OurResult our_build(const Mesh& mesh, const BuildOptions& options, int repeats) {
   OurResult r;
-  if (const auto* m = std::get_if<FitMethod>(&options.fitter); m && !available(*m)) return r;
-  if (const auto* a = std::get_if<AutoFit>(&options.fitter); a && !(available(a->tight) && available(a->medium) && available(a->cheap)))
-    return r;
+  if (!fitter_available(options)) return r;
   Tree tree;
   r.seconds = median_seconds(repeats, [&] { tree = build(mesh, options); }, options.threads == 1);
   if (const TreeCheck check = validate(tree, mesh); !check.ok())
@@ -133,6 +159,30 @@ OurResult our_build(const Mesh& mesh, const BuildOptions& options, int repeats) 
   r.stats = tree_stats(tree);
   r.ok = true;
   return r;
+}
+
+Interleaved interleaved_builds(const Mesh& mesh, const std::vector<BuildOptions>& options, int repeats) {
+  Interleaved out;
+  out.results.resize(options.size());
+  out.seconds.resize(options.size());
+  std::vector<Tree> trees(options.size());
+  for (std::size_t i = 0; i < options.size(); ++i) out.results[i].ok = fitter_available(options[i]);
+  for (int round = 0; round < repeats; ++round)
+    for (std::size_t i = 0; i < options.size(); ++i) {
+      if (!out.results[i].ok) continue;
+      out.seconds[i].push_back(median_seconds(1, [&] { trees[i] = build(mesh, options[i]); }, options[i].threads == 1));
+    }
+  for (std::size_t i = 0; i < options.size(); ++i) {
+    OurResult& r = out.results[i];
+    if (!r.ok) continue;
+    if (const TreeCheck check = validate(trees[i], mesh); !check.ok())
+      throw std::runtime_error("invalid tree: " + check.errors[0]);
+    r.stats = tree_stats(trees[i]);
+    std::vector<double> sorted = out.seconds[i];
+    std::sort(sorted.begin(), sorted.end());
+    r.seconds = sorted[sorted.size() / 2];
+  }
+  return out;
 }
 
 BuildOptions options_for(const Fitter& fitter, unsigned threads, SplitMethod split = SplitMethod::rapid) {
@@ -168,6 +218,8 @@ int compare(const std::vector<std::filesystem::path>& meshes, int repeats, unsig
             bool tight) {
   nlohmann::json all = nlohmann::json::array();
   std::printf("threads = %u for our builds (FCL is single-threaded); times are medians of %d runs\n", threads, repeats);
+  std::printf("pca, approx and auto are built in turn, %d rounds; approx / pca and auto / pca are medians of same-round ratios\n",
+              repeats);
   const unsigned all_threads = std::max(1u, std::thread::hardware_concurrency());
   std::printf("pca T%u: our pca build with all %u hardware threads\n", all_threads, all_threads);
   std::printf("| mesh | triangles | FCL OBB s | FCL OBBRSS s | pca s | FCL OBB / pca | pca T%u s | FCL OBB / pca T%u | approx s |",
@@ -181,13 +233,19 @@ int compare(const std::vector<std::filesystem::path>& meshes, int repeats, unsig
     const FclMesh input = to_fcl_input(mesh);
     const auto obb = fcl_build<fcl::OBBd>(input, repeats);
     const auto obbrss = fcl_build<fcl::OBBRSSd>(input, repeats);
-    const OurResult pca = our_build(mesh, options_for(FitMethod::pca, threads), repeats);
+    // pca, approx and auto in rounds (Interleaved): their time ratios are medians of same-round ratios.
+    std::vector<BuildOptions> in_turn{options_for(FitMethod::pca, threads)};
+    if (tight) in_turn.push_back(options_for(FitMethod::approx, threads)), in_turn.push_back(options_for(AutoFit{}, threads));
+    const Interleaved rounds = interleaved_builds(mesh, in_turn, repeats);
+    const OurResult& pca = rounds.results[0];
     const OurResult pca_all = our_build(mesh, options_for(FitMethod::pca, all_threads), repeats);
-    const OurResult approx = tight ? our_build(mesh, options_for(FitMethod::approx, threads), repeats) : OurResult{};
-    const OurResult automatic = tight ? our_build(mesh, options_for(AutoFit{}, threads), repeats) : OurResult{};
-    const auto ratio = [](const OurResult& a, double b, bool volume) -> std::string {
-      if (!a.ok) return "n/a";
-      return fmt((volume ? a.stats.sum_volume : a.seconds) / b, "%.3f");
+    const OurResult approx = tight ? rounds.results[1] : OurResult{};
+    const OurResult automatic = tight ? rounds.results[2] : OurResult{};
+    const auto volume_ratio = [](const OurResult& a, double b) -> std::string {
+      return a.ok ? fmt(a.stats.sum_volume / b, "%.3f") : std::string("n/a");
+    };
+    const auto time_ratio = [&](std::size_t i) -> std::string {
+      return tight && rounds.results[i].ok ? fmt(rounds.ratio(i, 0), "%.3f") : std::string("n/a");
     };
     const auto secs = [](const OurResult& a) { return a.ok ? fmt(a.seconds, "%.4f") : std::string("n/a"); };
     // The measure of tightness: gain(f) = 1 - sum vol(f tree) / sum vol(pca tree).
@@ -200,9 +258,8 @@ int compare(const std::vector<std::filesystem::path>& meshes, int repeats, unsig
                 name_of(path).c_str(), mesh.triangles.size(), obb.seconds, obbrss.seconds, secs(pca).c_str(),
                 fmt(obb.seconds / pca.seconds, "%.2f").c_str(), secs(pca_all).c_str(),
                 fmt(obb.seconds / pca_all.seconds, "%.2f").c_str(), secs(approx).c_str(),
-                ratio(approx, pca.seconds, false).c_str(), secs(automatic).c_str(),
-                ratio(automatic, pca.seconds, false).c_str(), ratio(approx, pca.stats.sum_volume, true).c_str(),
-                ratio(automatic, pca.stats.sum_volume, true).c_str(), gain_ratio.c_str(), obb.sum_volume / pca.stats.sum_volume,
+                time_ratio(1).c_str(), secs(automatic).c_str(), time_ratio(2).c_str(),
+                volume_ratio(approx, pca.stats.sum_volume).c_str(), volume_ratio(automatic, pca.stats.sum_volume).c_str(), gain_ratio.c_str(), obb.sum_volume / pca.stats.sum_volume,
                 pca.stats.bytes_per_triangle, static_cast<double>(obb.bytes) / mesh.triangles.size());
     std::fflush(stdout);
     const auto ours = [](const OurResult& r) -> nlohmann::json {

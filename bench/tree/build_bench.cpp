@@ -28,7 +28,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <limits>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -130,17 +129,14 @@ struct OurResult {
 struct Interleaved {
   std::vector<OurResult> results;
   std::vector<std::vector<double>> seconds;  // [fitter][round]
-  // The median over rounds of fitter i's time over fitter j's, or NaN when either is unavailable.
+  // The median over rounds of fitter i's time over fitter j's (both available).
   [[nodiscard]] double ratio(std::size_t i, std::size_t j) const {
-    if (!results[i].ok || !results[j].ok) return std::numeric_limits<double>::quiet_NaN();
     std::vector<double> r;
     for (std::size_t k = 0; k < seconds[i].size(); ++k) r.push_back(seconds[i][k] / seconds[j][k]);
     std::sort(r.begin(), r.end());
     return r[r.size() / 2];
   }
 };
-
-Interleaved interleaved_builds(const Mesh& mesh, const std::vector<BuildOptions>& options, int repeats);
 
 // Whether this build's fitters exist in this build of the library (some need optional dependencies).
 bool fitter_available(const BuildOptions& options) {
@@ -259,7 +255,8 @@ int compare(const std::vector<std::filesystem::path>& meshes, int repeats, unsig
                 fmt(obb.seconds / pca.seconds, "%.2f").c_str(), secs(pca_all).c_str(),
                 fmt(obb.seconds / pca_all.seconds, "%.2f").c_str(), secs(approx).c_str(),
                 time_ratio(1).c_str(), secs(automatic).c_str(), time_ratio(2).c_str(),
-                volume_ratio(approx, pca.stats.sum_volume).c_str(), volume_ratio(automatic, pca.stats.sum_volume).c_str(), gain_ratio.c_str(), obb.sum_volume / pca.stats.sum_volume,
+                volume_ratio(approx, pca.stats.sum_volume).c_str(), volume_ratio(automatic, pca.stats.sum_volume).c_str(),
+                gain_ratio.c_str(), obb.sum_volume / pca.stats.sum_volume,
                 pca.stats.bytes_per_triangle, static_cast<double>(obb.bytes) / mesh.triangles.size());
     std::fflush(stdout);
     const auto ours = [](const OurResult& r) -> nlohmann::json {

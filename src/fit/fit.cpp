@@ -306,19 +306,58 @@ Obb fit_kernel(std::span<const Vec3> points, std::span<const Vec3> triangle_corn
   return smaller_box(box, pca) ? box : pca;
 }
 
-// normal-bopt: Bopt(S, {n}) of Barequet & Har-Peled (Section 6.3) for one direction n, the
-// area-weighted normal of the triangles (without triangles: the PCA box's thinnest axis, the
-// normal of the best-fitting plane): the box with an axis along n and the minimum-area rectangle
-// (rotating calipers) of the set projected onto the plane orthogonal to it. For the small nodes
-// of a tree, which are patches of the surface, the minimum box is nearly flush with the patch, so
-// this one direction does most of what approx's scan of dozens does, at the cost of a PCA fit,
-// one projection and a 2D hull. In `auto` (nodes of 2-63 triangles) the trees of the shipped pair
-// need 1-6% more box tests than approx trees over the benchmark's poses, against 1-17% with pca
-// there (and approx-kernel from 32 triangles), at no more build cost (README, "Tree builder"),
-// although it gets only 30-45% of approx's volume gain on those nodes: boxes flush with a patch
-// are thin where the other mesh's surface comes close. The PCA box is kept when smaller (a patch
-// that folds over, a normal that sums to nothing). With `fallback_axes` (auto below the root: the
-// parent box's axes) the box along those is the fallback instead, and no PCA is computed.
+// normal-bopt's candidate directions: the triangles' area-weighted normal and the normals of up to
+// kTriangleNormals of the triangles themselves (every ceil(T / kTriangleNormals)-th of T).
+constexpr std::size_t kTriangleNormals = 31;
+constexpr std::size_t kNormalLanes = 32;  // 1 + kTriangleNormals, a whole number of AVX lanes
+static_assert(kNormalLanes >= 1 + kTriangleNormals && kNormalLanes % 4 == 0);
+
+// The triangles' area-weighted normal (summed over all of them) or one of the candidates' own
+// normals, whichever the points are thinnest across (width (max - min of d . p) / |d|; the first
+// on ties; zero and non-finite candidates never win; the summed normal when none qualifies). A
+// curved or folded patch is often thinner across one of its own triangles' planes than across its
+// mean plane, and the minimum box of a patch is nearly flush with it (README, "The default
+// fitter"). One projection pass over the points for all candidates (four per AVX instruction).
+Vec3 thinnest_normal(std::span<const Vec3> points, std::span<const Vec3> triangle_corners) {
+  alignas(32) std::array<double, kNormalLanes> dx, dy, dz, lo, hi;
+  const std::size_t triangles = triangle_corners.size() / 3;
+  const std::size_t stride = (triangles + kTriangleNormals - 1) / kTriangleNormals;
+  Vec3 summed = Vec3::Zero();
+  std::size_t count = 1;  // slot 0: the summed normal
+  for (std::size_t t = 0, next = 0; t < triangles; ++t) {
+    const Vec3* c = &triangle_corners[3 * t];
+    const Vec3 n = (c[1] - c[0]).cross(c[2] - c[0]);  // edges: no origin to lose precision to
+    summed += n;
+    if (t != next) continue;
+    dx[count] = n.x(), dy[count] = n.y(), dz[count] = n.z(), ++count;
+    next += stride;
+  }
+  dx[0] = summed.x(), dy[0] = summed.y(), dz[0] = summed.z();
+  const std::size_t lanes = (count + 3) / 4 * 4;
+  for (std::size_t i = count; i < lanes; ++i) dx[i] = dy[i] = dz[i] = 0.0;
+  fit_detail::projection_ranges(points, dx.data(), dy.data(), dz.data(), lo.data(), hi.data(), lanes);
+  std::size_t best = 0;
+  double least = std::numeric_limits<double>::infinity();  // of width^2
+  for (std::size_t i = 0; i < count; ++i) {
+    const double norm2 = (dx[i] * dx[i] + dy[i] * dy[i]) + dz[i] * dz[i];
+    const double width2 = (hi[i] - lo[i]) * (hi[i] - lo[i]) / norm2;  // NaN (never less) for 0 or overflow
+    if (width2 < least) least = width2, best = i;
+  }
+  return {dx[best], dy[best], dz[best]};
+}
+
+// normal-bopt: Bopt(S, {n}) of Barequet & Har-Peled (Section 6.3) for one direction n: of the
+// triangles' area-weighted normal and their own normals (thinnest_normal), the one across which
+// the set is thinnest (without triangles: the PCA box's thinnest axis, the normal of the
+// best-fitting plane): the box with an axis along n and the minimum-area rectangle (rotating
+// calipers) of the set projected onto the plane orthogonal to it. For the small nodes of a tree,
+// which are patches of the surface, the minimum box is nearly flush with the patch, so this one
+// direction does much of what approx's scan of dozens does, at the cost of one projection pass for
+// the candidates, one for Bopt and a 2D hull. In `auto` (nodes of 2-63 triangles) boxes flush with
+// a patch are thin where the other mesh's surface comes close, so they cull better in queries than
+// their volume says (README, "The default fitter"). The PCA box is kept when smaller (a patch that
+// folds over, a normal that sums to nothing). With `fallback_axes` (auto below the root: the parent
+// box's axes) the box along those is the fallback instead, and no PCA is computed.
 Obb fit_normal_bopt(std::span<const Vec3> points, std::span<const Vec3> triangle_corners, FitWorkspace& workspace,
                     const Mat3* pca_axes = nullptr, const Mat3* fallback_axes = nullptr) {
   using namespace fit_detail;
@@ -330,8 +369,7 @@ Obb fit_normal_bopt(std::span<const Vec3> points, std::span<const Vec3> triangle
     pca.half_extents.minCoeff(&thinnest);
     normal = pca.axes.col(thinnest);
   } else {
-    for (std::size_t t = 0; t < triangle_corners.size(); t += 3)  // edges: no origin to lose precision to
-      normal += (triangle_corners[t + 1] - triangle_corners[t]).cross(triangle_corners[t + 2] - triangle_corners[t]);
+    normal = thinnest_normal(points, triangle_corners);
   }
   if (!(normal.squaredNorm() > 0.0) || !normal.allFinite()) return pca;
   auto& s = workspace.scratch();

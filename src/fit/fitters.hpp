@@ -30,6 +30,13 @@ namespace tightbvh::fit_detail {
 // st of lemma_box (never larger than the lemma's box, so still a 7-approximation).
 [[nodiscard]] AxisBox diameter_box(const HullGeometry& g, BoptScratch& scratch);
 
+// Per direction i < lanes (lanes a multiple of 4; dx, dy, dz, lo and hi hold that many): lo[i] /
+// hi[i] = min / max over the points (at least one) of (dx[i] x + dy[i] y) + dz[i] z. Four
+// directions per AVX instruction where the CPU has AVX, else two per SSE2 one: the same rounded
+// values either way (no FMA), so callers choose the same directions on every x86-64.
+void projection_ranges(std::span<const Vec3> points, const double* dx, const double* dy, const double* dz, double* lo,
+                       double* hi, std::size_t lanes);
+
 // The primitive vectors (i1, i2, i3) with max |ij| <= k and gcd 1, one of each pair +-v.
 [[nodiscard]] const std::vector<std::array<int, 3>>& primitive_grid(int k);
 

@@ -208,6 +208,36 @@ AxisBox refine_direction(const HullGeometry& g, AxisBox box, const VolumeBound& 
 
 }  // namespace
 
+void projection_ranges(std::span<const Vec3> points, const double* dx, const double* dy, const double* dz, double* lo,
+                       double* hi, std::size_t lanes) {
+#ifdef TIGHTBVH_AVX_GRID_ORDER
+  static const bool avx = has_avx_grid_order();
+  if (avx) return projection_ranges_avx(points.front().data(), points.size(), dx, dy, dz, lo, hi, lanes);
+#endif
+#ifdef TIGHTBVH_GRID_SSE2
+  for (std::size_t i = 0; i < lanes; i += 2) {
+    const __m128d ax = _mm_loadu_pd(dx + i), ay = _mm_loadu_pd(dy + i), az = _mm_loadu_pd(dz + i);
+    __m128d l = _mm_set1_pd(std::numeric_limits<double>::infinity()), h = _mm_set1_pd(-std::numeric_limits<double>::infinity());
+    for (const Vec3& p : points) {
+      const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(ax, _mm_set1_pd(p.x())), _mm_mul_pd(ay, _mm_set1_pd(p.y()))),
+                                   _mm_mul_pd(az, _mm_set1_pd(p.z())));
+      l = _mm_min_pd(l, d);
+      h = _mm_max_pd(h, d);
+    }
+    _mm_storeu_pd(lo + i, l);
+    _mm_storeu_pd(hi + i, h);
+  }
+#else
+  for (std::size_t i = 0; i < lanes; ++i) {
+    lo[i] = std::numeric_limits<double>::infinity(), hi[i] = -lo[i];
+    for (const Vec3& p : points) {
+      const double d = (dx[i] * p.x() + dy[i] * p.y()) + dz[i] * p.z();
+      lo[i] = std::min(lo[i], d), hi[i] = std::max(hi[i], d);
+    }
+  }
+#endif
+}
+
 namespace {
 
 // The kStarts smallest boxes of the grid scan, smallest first (B*(S) itself when nothing beats it).
@@ -246,37 +276,6 @@ void keep_if_smaller(TopBoxes& top, int kept, const AxisBox& box) {
 // The k = 2 grid's 49 directions, padded to whole AVX lanes (zero directions, never read).
 constexpr std::size_t kWidthLanes = 52;
 
-// Per direction i (dx[i], dy[i], dz[i]) the least and greatest d . p over the points.
-void projection_ranges(std::span<const Vec3> points, const double* dx, const double* dy, const double* dz, double* lo,
-                       double* hi) {
-#ifdef TIGHTBVH_AVX_GRID_ORDER
-  static const bool avx = has_avx_grid_order();
-  if (avx) return projection_ranges_avx(points.front().data(), points.size(), dx, dy, dz, lo, hi, kWidthLanes);
-#endif
-#ifdef TIGHTBVH_GRID_SSE2
-  for (std::size_t i = 0; i < kWidthLanes; i += 2) {
-    const __m128d ax = _mm_load_pd(dx + i), ay = _mm_load_pd(dy + i), az = _mm_load_pd(dz + i);
-    __m128d l = _mm_set1_pd(std::numeric_limits<double>::infinity()), h = _mm_set1_pd(-std::numeric_limits<double>::infinity());
-    for (const Vec3& p : points) {
-      const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(ax, _mm_set1_pd(p.x())), _mm_mul_pd(ay, _mm_set1_pd(p.y()))),
-                                   _mm_mul_pd(az, _mm_set1_pd(p.z())));
-      l = _mm_min_pd(l, d);
-      h = _mm_max_pd(h, d);
-    }
-    _mm_store_pd(lo + i, l);
-    _mm_store_pd(hi + i, h);
-  }
-#else
-  for (std::size_t i = 0; i < kWidthLanes; ++i) {
-    lo[i] = std::numeric_limits<double>::infinity(), hi[i] = -lo[i];
-    for (const Vec3& p : points) {
-      const double d = (dx[i] * p.x() + dy[i] * p.y()) + dz[i] * p.z();
-      lo[i] = std::min(lo[i], d), hi[i] = std::max(hi[i], d);
-    }
-  }
-#endif
-}
-
 // Bopt(S, {v}) for the primitive directions v of Grid(B*(S)) with L-inf norm <= k, in increasing
 // order of their volume bound (the best boxes come early, and once a bound reaches the kept-th
 // best volume so do all later ones); keeps the `kept` (<= kStarts) smallest boxes.
@@ -300,7 +299,7 @@ TopBoxes scan_grid(const HullGeometry& g, const AxisBox& bstar, const VolumeBoun
       const Vec3 v = basis * Vec3(grid[i][0], grid[i][1], grid[i][2]);
       dx[i] = v.x(), dy[i] = v.y(), dz[i] = v.z();
     }
-    projection_ranges(g.local, dx, dy, dz, lo, hi);
+    projection_ranges(g.local, dx, dy, dz, lo, hi, kWidthLanes);
     alignas(32) double lower[kWidthLanes];
     bound.cheap_lanes(dx, dy, dz, lo, hi, lower, kWidthLanes);
     // The directions in increasing order of (bound, index), as sorting the pairs below would, but

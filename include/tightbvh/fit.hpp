@@ -20,7 +20,7 @@ enum class FitMethod {
   exact,        // minimum-volume box (O'Rourke's theorem)
   eberly2015,   // Eberly 2015: face-flush and orthogonal-edge-triple boxes (misses some minima)
   approx_kernel,  // approx's grid scan on an extreme-point kernel of the set (O(n), see fit.cpp)
-  normal_bopt,    // Bopt along the triangles' area-weighted normal (one rotating-calipers pass, see fit.cpp)
+  normal_bopt,    // Bopt along the thinnest of the triangles' area-weighted and own normals (see fit.cpp)
   dito,           // DiTO-14, Larsson & Källberg 2011: frames of a ditetrahedron of extreme points (O(n), dito.cpp)
 };
 

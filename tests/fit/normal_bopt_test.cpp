@@ -1,6 +1,7 @@
 // normal-bopt (fit.cpp): one Bopt along the thinnest of the triangles' area-weighted normal and
-// their own normals, the `auto` tree fitter's method for small nodes. Checked against pca (never larger), approx (on real small tree
-// nodes, most of its gain), known answers on planar sets, and bad input.
+// their own normals, the `auto` tree fitter's method for small nodes. Checked against pca (never
+// larger), approx (on real small tree nodes, most of its gain), known answers on planar and
+// folded patches, and bad input.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -17,4 +17,10 @@ namespace tightbvh::query_detail {
                                                               const Vec3& q0, const Vec3& q1, const Vec3& q2,
                                                               bool avx2);
 
+// tri_tri_within() without its touching test, on the chosen path: for triangles that do not
+// touch it is tri_tri_distance(...).distance <= margin, exactly, on either path.
+[[nodiscard]] bool tri_tri_within_disjoint_path(const Vec3& p0, const Vec3& p1, const Vec3& p2,  //
+                                                const Vec3& q0, const Vec3& q1, const Vec3& q2, double margin,
+                                                bool avx2);
+
 }  // namespace tightbvh::query_detail

@@ -138,9 +138,14 @@ struct TriPairInput {
   TriFace<double, bool> face_p, face_q;
 };
 
-// Defined in tri_distance_avx2.cpp where TIGHTBVH_AVX2_BOUNDS is (box_bounds4.hpp): the 15
-// squared distances in four AVX2 lanes, each equal bit for bit to the scalar one; returns the
-// edge pairs flagged `parallel` (bit k).
-unsigned tri_candidates_avx2(const TriPairInput& in, double (&d2)[kTriCandidates]);
+// Defined in tri_distance_avx2.cpp where TIGHTBVH_AVX2_BOUNDS is (box_bounds4.hpp): the squared
+// distances in four AVX2 lanes, each equal bit for bit to the scalar one. The edge pairs fill
+// d2[0..8] and return the pairs flagged `parallel` (bit k); the vertex-face candidates fill
+// d2[9..14].
+unsigned tri_edge_pairs_avx2(const TriPairInput& in, double (&d2)[kTriCandidates]);
+// Whether some edge pair's max(sqrt(d2), DBL_MIN) <= margin, batch by batch, stopping at the
+// first batch that has one; when none has, `parallel` is set as tri_edge_pairs_avx2 returns it.
+bool tri_edge_pairs_within_avx2(const TriPairInput& in, double margin, unsigned& parallel);
+void tri_vertex_faces_avx2(const TriPairInput& in, double (&d2)[kTriCandidates]);
 
 }  // namespace tightbvh::query_detail

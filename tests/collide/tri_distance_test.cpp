@@ -234,7 +234,7 @@ TEST(TriDistance, AvxAndScalarPathsAgreeBitForBit) {
   const auto same = [](const TriangleDistance& x, const TriangleDistance& y) {
     return x.distance == y.distance && x.point_p == y.point_p && x.point_q == y.point_q;
   };
-  int parallel_like = 0;
+  int parallel_like = 0, within_count = 0, beyond_count = 0;
   for (int k = 0; k < 20000; ++k) {
     Tri p, q;
     switch (k % 6) {
@@ -282,8 +282,21 @@ TEST(TriDistance, AvxAndScalarPathsAgreeBitForBit) {
     ASSERT_EQ(swapped.distance, scalar.distance) << k;
     ASSERT_EQ(swapped.point_p, scalar.point_q) << k;
     if (!tri_tri_overlap(p, q)) ASSERT_TRUE(same(tri_tri_distance(p, q), lanes)) << k;
+    // The margin predicate stops at the first candidate within the margin: on either path it
+    // must still decide as the whole distance does, also a rounding step either side of it.
+    const double d = scalar.distance;
+    for (const double margin : {d, std::nextafter(d, 0.0), std::nextafter(d, 1e300), 0.5 * d, 2.0 * d}) {
+      const bool within_lanes = query_detail::tri_tri_within_disjoint_path(p[0], p[1], p[2], q[0], q[1], q[2], margin, true);
+      const bool within_scalar =
+          query_detail::tri_tri_within_disjoint_path(p[0], p[1], p[2], q[0], q[1], q[2], margin, false);
+      ASSERT_EQ(within_scalar, d <= margin) << k << " margin " << margin;
+      ASSERT_EQ(within_lanes, d <= margin) << k << " margin " << margin;
+      (d <= margin ? within_count : beyond_count) += 1;
+    }
   }
   EXPECT_GT(parallel_like, 3000);
+  EXPECT_GT(within_count, 40000);
+  EXPECT_GT(beyond_count, 30000);
 }
 
 TEST(TriDistance, WithinIsTheDistanceComparedToTheMargin) {

@@ -286,7 +286,8 @@ TEST(TriDistance, AvxAndScalarPathsAgreeBitForBit) {
     // must still decide as the whole distance does, also a rounding step either side of it.
     const double d = scalar.distance;
     for (const double margin : {d, std::nextafter(d, 0.0), std::nextafter(d, 1e300), 0.5 * d, 2.0 * d}) {
-      const bool within_lanes = query_detail::tri_tri_within_disjoint_path(p[0], p[1], p[2], q[0], q[1], q[2], margin, true);
+      const bool within_lanes =
+          query_detail::tri_tri_within_disjoint_path(p[0], p[1], p[2], q[0], q[1], q[2], margin, true);
       const bool within_scalar =
           query_detail::tri_tri_within_disjoint_path(p[0], p[1], p[2], q[0], q[1], q[2], margin, false);
       ASSERT_EQ(within_scalar, d <= margin) << k << " margin " << margin;

@@ -88,7 +88,7 @@ Mat3 principal_axes_from(const Mat3& covariance, const Mat3& start) {
   // of 1e-7 of the scale); a box's volume moves by about the square of such a tilt, as its
   // extents are measured along whatever axes come out. Stopping there, not at 1e-12, saves most
   // of a sweep a node in refit, whose rotations are chains of divisions and square roots:
-  // camel's refit 6.8-7.5 -> 5.8-6.9 ms, FCL's bottom-up refit / ours 2.03-2.15x -> 2.24-2.41x
+  // camel's refit 6.5-7.6 -> 5.8-6.9 ms, FCL's bottom-up refit / ours 1.96-2.21x -> 2.24-2.41x
   // (1e-8: 2.12-2.28x, 1e-9: no gain), the same volumes (README, "Refit").
   const double negligible = 1e-7 * largest;
   // The rotation in the plane (p, q) that zeroes d[p][q] (r the third index), in the symmetric

@@ -1,6 +1,8 @@
 // B*(S), Barequet & Har-Peled Lemma 6.3.1.
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <span>
 
 #include "fitters.hpp"
 #include "frame.hpp"
@@ -8,9 +10,29 @@
 namespace tightbvh::fit_detail {
 namespace {
 
+// The last two steps of approx_diameter: two rounds of "farthest point from the current end".
+template <typename Points>
+std::array<std::size_t, 2> farthest_rounds(const Points& pts, std::size_t n, std::array<std::size_t, 2> best,
+                                           double best_len) {
+  for (int round = 0; round < 2; ++round) {
+    std::size_t far = best[0];
+    double far_len = -1.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double len = (pts[i] - pts[best[0]]).squaredNorm();
+      if (len > far_len) far_len = len, far = i;
+    }
+    if (far_len > best_len) {
+      best_len = far_len;
+      best = {best[0], far};
+    }
+    std::swap(best[0], best[1]);
+  }
+  return best;
+}
+
 // An approximate diameter pair (Lemma 2.5.3 uses the extreme points of a fixed set of
-// directions): the extreme pairs along the 13 directions of the cube's faces, edges and
-// corners, then two rounds of "farthest point from the current end".
+// directions): the extreme pairs along the given directions (the longest pair wins, the first on
+// ties), then two rounds of "farthest point from the current end".
 template <typename Points, typename DirectionAt>
 std::array<std::size_t, 2> approx_diameter(const Points& pts, std::size_t n, int dirs_count,
                                            const DirectionAt& dir_at) {
@@ -28,29 +50,49 @@ std::array<std::size_t, 2> approx_diameter(const Points& pts, std::size_t n, int
     const double len = (pts[hi] - pts[lo]).squaredNorm();
     if (len > best_len) best_len = len, best = {lo, hi};
   }
-  for (int round = 0; round < 2; ++round) {
-    std::size_t far = best[0];
-    double far_len = -1.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double len = (pts[i] - pts[best[0]]).squaredNorm();
-      if (len > far_len) far_len = len, far = i;
+  return farthest_rounds(pts, n, best, best_len);
+}
+
+// approx_diameter along the 13 directions of the cube's faces, edges and corners, in one pass
+// over the points. Their coordinates are 0 and +-1, so each projection (x dx + y dy) + z dz is a
+// signed sum of coordinates with the same rounding (products by 0 and 1 are exact; a -0 from a
+// product compares equal to 0): the same extremes and pair as approx_diameter with these
+// directions, at a tenth of the arithmetic (lemma_box was 7% of an approx tree build).
+constexpr int kCubeDirections = 13;
+std::array<std::size_t, 2> cube_diameter(std::span<const Vec3> pts) {
+  const auto project = [](const Vec3& p, double (&t)[kCubeDirections]) {
+    const double x = p.x(), y = p.y(), z = p.z();
+    const double xy = x + y, x_y = x - y;
+    t[0] = x, t[1] = y, t[2] = z;
+    t[3] = xy, t[4] = x_y, t[5] = x + z, t[6] = x - z, t[7] = y + z, t[8] = y - z;
+    t[9] = xy + z, t[10] = xy - z, t[11] = x_y + z, t[12] = (y - x) + z;
+  };
+  double vlo[kCubeDirections], vhi[kCubeDirections];
+  std::size_t lo[kCubeDirections] = {}, hi[kCubeDirections] = {};
+  project(pts[0], vlo);
+  std::copy(vlo, vlo + kCubeDirections, vhi);
+  for (std::size_t i = 1; i < pts.size(); ++i) {
+    double t[kCubeDirections];
+    project(pts[i], t);
+    for (int d = 0; d < kCubeDirections; ++d) {
+      if (t[d] < vlo[d]) vlo[d] = t[d], lo[d] = i;
+      if (t[d] > vhi[d]) vhi[d] = t[d], hi[d] = i;
     }
-    if (far_len > best_len) {
-      best_len = far_len;
-      best = {best[0], far};
-    }
-    std::swap(best[0], best[1]);
   }
-  return best;
+  std::array<std::size_t, 2> best{0, 0};
+  double best_len = -1.0;
+  for (int d = 0; d < kCubeDirections; ++d) {
+    const double len = (pts[hi[d]] - pts[lo[d]]).squaredNorm();
+    if (len > best_len) best_len = len, best = {lo[d], hi[d]};
+  }
+  return farthest_rounds(pts, pts.size(), best, best_len);
 }
 
 }  // namespace
 
 AxisBox lemma_box(const HullGeometry& g, BoptScratch& scratch) {
   const auto& p = g.local;
-  static const Vec3 kDirs[13] = {{1, 0, 0}, {0, 1, 0},  {0, 0, 1},  {1, 1, 0},  {1, -1, 0}, {1, 0, 1},  {1, 0, -1},
-                                 {0, 1, 1}, {0, 1, -1}, {1, 1, 1},  {1, 1, -1}, {1, -1, 1}, {-1, 1, 1}};
-  const auto st = approx_diameter(p, p.size(), 13, [](int d) { return kDirs[d]; });
+  const auto st = cube_diameter(p);
   const Vec3 axis1 = (p[st[1]] - p[st[0]]).normalized();
   const Mat3 frame = frame_from_axis(axis1);
   const Vec3 u = frame.col(1), w = frame.col(2);

@@ -108,3 +108,64 @@ TEST(GridSearch, TreeNodeApproxIsNeverLargerThanTheGridScan) {
 
 }  // namespace
 }  // namespace tightbvh
+
+namespace tightbvh {
+namespace {
+
+// B*(S)'s first axis is the approximate diameter of Lemma 2.5.3: the longest of the extreme pairs
+// along the 13 directions of the cube's faces, edges and corners (the first on ties), then two
+// rounds of "farthest point from the current end". lemma_box finds the 13 pairs in one pass with
+// signed sums of coordinates; here they are found direction by direction with dot products, as
+// the lemma states them. Integer grids make many ties, far-away sets round every sum.
+std::array<std::size_t, 2> thirteen_direction_diameter(std::span<const Vec3> p) {
+  const Vec3 dirs[13] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1},  {1, 1, 0},  {1, -1, 0}, {1, 0, 1},  {1, 0, -1},
+                         {0, 1, 1}, {0, 1, -1}, {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {-1, 1, 1}};
+  std::array<std::size_t, 2> best{0, 0};
+  double best_len = -1.0;
+  for (const Vec3& d : dirs) {
+    std::size_t lo = 0, hi = 0;
+    for (std::size_t i = 1; i < p.size(); ++i) {
+      if (d.dot(p[i]) < d.dot(p[lo])) lo = i;
+      if (d.dot(p[i]) > d.dot(p[hi])) hi = i;
+    }
+    if ((p[hi] - p[lo]).squaredNorm() > best_len) best_len = (p[hi] - p[lo]).squaredNorm(), best = {lo, hi};
+  }
+  for (int round = 0; round < 2; ++round) {
+    std::size_t far = best[0];
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if ((p[i] - p[best[0]]).squaredNorm() > (p[far] - p[best[0]]).squaredNorm()) far = i;
+    if ((p[far] - p[best[0]]).squaredNorm() > best_len) best_len = (p[far] - p[best[0]]).squaredNorm(), best[1] = far;
+    std::swap(best[0], best[1]);
+  }
+  return best;
+}
+
+TEST(LemmaBox, FirstAxisIsTheThirteenDirectionDiameter) {
+  std::vector<std::vector<Vec3>> sets;
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) sets.push_back(test::gaussian_points(4 + seed * 3, seed));
+  std::mt19937_64 rng(5);
+  std::uniform_int_distribution<int> cell(-3, 3);
+  for (int s = 0; s < 200; ++s) {  // small integer grids: ties along every direction
+    std::vector<Vec3> grid;
+    for (int i = 0; i < 5 + s % 20; ++i) grid.emplace_back(cell(rng), cell(rng), cell(rng));
+    sets.push_back(grid);
+  }
+  test::append_far_copies(sets);
+  for (const auto& node : test::node_sets("meshes/knot1.off", 2)) sets.push_back(node.vertices);
+  std::size_t checked = 0;
+  for (const auto& points : sets) {
+    fit_detail::HullGeometry g;
+    g.reset_points(points, points[0]);
+    const auto st = thirteen_direction_diameter(g.local);
+    const Vec3 expected = (g.local[st[1]] - g.local[st[0]]).normalized();
+    if (!expected.allFinite()) continue;  // all points equal
+    fit_detail::BoptScratch scratch;
+    const Vec3 axis = fit_detail::lemma_box(g, scratch).axes.col(0);
+    EXPECT_LT((axis - expected).norm(), 1e-12) << "set " << checked << " of " << points.size() << " points";
+    ++checked;
+  }
+  EXPECT_GT(checked, 1000u);
+}
+
+}  // namespace
+}  // namespace tightbvh

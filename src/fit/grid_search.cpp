@@ -369,11 +369,13 @@ AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool imp
   TopBoxes top = scan ? scan_grid(g, bstar, bound, k, starts, scratch) : only_bstar(bstar);
   for (const Vec3& v : seeds) keep_if_smaller(top, starts, bopt(g, v, scratch));
   if (!improve_step) return top.box[0];
+  const double min_gain =
+      extras == Extras::by_size && g.size() < kFineImprovementFrom ? kCoarseImprovementGain : 1e-6;
   AxisBox best = top.box[0];
   double best_volume = top.volume[0];
   for (int i = 0; i < starts; ++i) {
     if (!(top.volume[i] < std::numeric_limits<double>::infinity())) break;
-    const AxisBox improved = improve(g, top.box[i], scratch, 1e-6, 16, top.from_bopt[i]);
+    const AxisBox improved = improve(g, top.box[i], scratch, min_gain, 16, top.from_bopt[i]);
     if (improved.volume() < best_volume) best_volume = improved.volume(), best = improved;
   }
   if (extras == Extras::by_size && g.size() < kTiltFrom) return best;

@@ -161,15 +161,19 @@ TEST(Refit, UndeformedPcaVertexMatchesBuild) {
   expect_pca_boxes_match(load_relative("meshes/elephant.off"), FitMethod::pca_vertex);
 }
 
-// The generic path (every node fitted from its corners) with a hull-based fitter: the same sum of
-// volumes as the build, to rounding.
+// The generic path (every node fitted from its corners) with a hull-based fitter: about the sum of
+// volumes of the build. Not the same boxes: the builder fits approx nodes from their distinct
+// vertices with the tree nodes' extras (fit_tree_node_approx: fewer improvement starts, a coarser
+// stop, tilts only on large hulls), refit's generic path from the corners with approx's full
+// search, so its sum is no larger and within half a percent (measured: -0.14% on this mesh).
 TEST(Refit, UndeformedApproxMatchesBuildVolume) {
   const Mesh mesh = test::first_triangles(load_relative("meshes/knot1.off"), 1500);
   const Tree built = build_with(mesh, FitMethod::approx);
   const Tree tree = refitted(built, mesh, with(FitMethod::approx));
   expect_same_topology(built, tree);
   const double want = tree_stats(built).sum_volume, got = tree_stats(tree).sum_volume;
-  EXPECT_NEAR(got, want, 1e-3 * want);
+  EXPECT_LE(got, want * (1 + 1e-9));
+  EXPECT_GE(got, want * (1 - 5e-3));
 }
 
 // ------------------------------------------------------------------ deformed: valid trees

@@ -315,11 +315,17 @@ TopBoxes scan_grid(const HullGeometry& g, const AxisBox& bstar, const VolumeBoun
       double least = lower[0];
 #ifdef TIGHTBVH_GRID_SSE2
       // The least bound two lanes at a time (min_pd(x, m) keeps m where x is NaN, as the scalar
-      // loop skips it), then its first index.
+      // loop skips it), then its first index, also two lanes at a time. A finite least is found
+      // below `count` (the padding is infinite); otherwise `at` is not used (the scan stops).
       __m128d m = _mm_load_pd(lower);
       for (std::size_t i = 2; i < kWidthLanes; i += 2) m = _mm_min_pd(_mm_load_pd(lower + i), m);
       least = std::min(_mm_cvtsd_f64(m), _mm_cvtsd_f64(_mm_unpackhi_pd(m, m)));
-      while (at + 1 < count && !(lower[at] == least)) ++at;
+      const __m128d wanted = _mm_set1_pd(least);
+      for (std::size_t i = 0; i < kWidthLanes; i += 2)
+        if (const int equal = _mm_movemask_pd(_mm_cmpeq_pd(_mm_load_pd(lower + i), wanted))) {
+          at = i + (equal & 1 ? 0 : 1);
+          break;
+        }
 #else
       for (std::size_t i = 1; i < count; ++i)
         if (lower[i] < least) least = lower[i], at = i;

@@ -84,18 +84,17 @@ class VolumeBound {
 // fit_triangles: the local improvement from the four best grid boxes, run until it gains less than
 // 1e-6, and the tilt search, on every set) or `by_size` (approx on tree nodes,
 // fit_tree_node_approx): for a set of n points (n: hull vertices, or the points of a set without
-// hull) the local improvement (Section 6.5) from the best grid box (n < 32), the two best (n < 64)
-// or the four best, run until it gains less than 1e-3 below n = 256, and the tilt search only from
-// n = 128. The grid scan itself, which carries Section 6.4's (1 + eps) guarantee, is the same.
+// hull) the local improvement (Section 6.5) from the best grid box (n < 64) or the four best, run
+// until it gains less than 1e-3 below n = 256, and the tilt search only from n = 128. The grid scan itself, which carries Section 6.4's (1 + eps) guarantee, is the same.
 // Measured on the trees of the 10 meshes of tightbvh-build-bench (README, "Tree builder",
 // approx): nodes below these sizes are most of a tree (85-90% have fewer than 16 points) but a
 // few percent of its sum of volumes, the extra starts and tilts changed their boxes by little
 // (the tilts never did below 8 points), and they were ~75% of a tree's Bopt calls. The second
-// round of cuts (2026-11-27: two starts from 16 -> 32, tilts from 32 -> 128, gain 1e-6 -> 1e-3
-// below 256) took 14% of knot1's instructions and moved the trees' sums of volumes by -0.2% to
-// +0.55% (tilts from 256 or four starts from 128 moved elephant's by +1.1% to +1.3%).
+// round of cuts (2026-11-27: one start up to 63 points where two started from 16, tilts from 128
+// instead of 32, a 1e-3 stop below 256 instead of 1e-6) took 19% of knot1's instructions and
+// moved the trees' sums of volumes by -0.2% to +0.55% (tilts from 256, four starts from 128 or
+// the tilts' last step at 0.02 moved elephant's by +1.1% to +1.6%).
 enum class Extras { full, by_size };
-inline constexpr std::size_t kTwoStartsFrom = 32;
 inline constexpr std::size_t kFourStartsFrom = 64;
 inline constexpr std::size_t kTiltFrom = 128;
 inline constexpr std::size_t kFineImprovementFrom = 256;

@@ -361,7 +361,7 @@ TopBoxes scan_grid(const HullGeometry& g, const AxisBox& bstar, const VolumeBoun
 
 int improvement_starts(std::size_t n, Extras extras) {
   if (extras == Extras::full) return kStarts;
-  return n < kTwoStartsFrom ? 1 : n < kFourStartsFrom ? 2 : kStarts;
+  return n < kFourStartsFrom ? 1 : kStarts;
 }
 
 AxisBox grid_search(const HullGeometry& g, const AxisBox& bstar, int k, bool improve_step, BoptScratch& scratch,

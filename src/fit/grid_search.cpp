@@ -43,15 +43,19 @@ VolumeBound::VolumeBound(const HullGeometry& g, const AxisBox& bstar) : g_(g) {
   std::array<Vec3, 6> extreme;
   for (int axis = 0; axis < 3; ++axis) {
     const Vec3 a = bstar.axes.col(axis);
-    extreme[2 * axis] = extreme[2 * axis + 1] = g.local[0];
     // The extremes' projections kept, not taken again at every comparison: the same values (a
-    // product is rounded the same way every time), so the same points.
+    // product is rounded the same way every time), so the same points. Strict comparisons (the
+    // first point reaching an extreme) as selects: as branches they were mispredicted at random.
     double lo = a.dot(g.local[0]), hi = lo;
-    for (const Vec3& p : g.local) {
-      const double t = a.dot(p);
-      if (t < lo) lo = t, extreme[2 * axis] = p;
-      if (t > hi) hi = t, extreme[2 * axis + 1] = p;
+    std::size_t at_lo = 0, at_hi = 0;
+    for (std::size_t i = 0; i < g.local.size(); ++i) {
+      const double t = a.dot(g.local[i]);
+      const bool below = t < lo, above = t > hi;
+      lo = below ? t : lo, at_lo = below ? i : at_lo;
+      hi = above ? t : hi, at_hi = above ? i : at_hi;
     }
+    extreme[2 * axis] = g.local[at_lo];
+    extreme[2 * axis + 1] = g.local[at_hi];
   }
   // Small sets repeat extreme points (a point extreme along two axes): their triangles are
   // degenerate or repeated, so only the distinct points span triangles (same bound, fewer terms).

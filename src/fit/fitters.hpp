@@ -85,7 +85,8 @@ class VolumeBound {
 // 1e-6, and the tilt search, on every set) or `by_size` (approx on tree nodes,
 // fit_tree_node_approx): for a set of n points (n: hull vertices, or the points of a set without
 // hull) the local improvement (Section 6.5) from the best grid box (n < 64) or the four best, run
-// until it gains less than 1e-3 below n = 256, and the tilt search only from n = 128. The grid scan itself, which carries Section 6.4's (1 + eps) guarantee, is the same.
+// until it gains less than 1e-3 below n = 256, and the tilt search only from n = 128. The grid
+// scan itself, which carries Section 6.4's (1 + eps) guarantee, is the same.
 // Measured on the trees of the 10 meshes of tightbvh-build-bench (README, "Tree builder",
 // approx): nodes below these sizes are most of a tree (85-90% have fewer than 16 points) but a
 // few percent of its sum of volumes, the extra starts and tilts changed their boxes by little

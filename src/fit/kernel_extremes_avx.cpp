@@ -58,7 +58,8 @@ void kernel_extremes_avx(const double* xyz, std::size_t n, const double (&center
     std::size_t p = begin;
     for (; p + 1 < end; ++p) {
       const double* q = xyz + 3 * p;
-      const double v = (d.x[lane] * (q[0] - center[0]) + d.y[lane] * (q[1] - center[1])) + d.z[lane] * (q[2] - center[2]);
+      const double qx = q[0] - center[0], qy = q[1] - center[1], qz = q[2] - center[2];
+      const double v = (d.x[lane] * qx + d.y[lane] * qy) + d.z[lane] * qz;
       if (v == value) break;
     }
     return static_cast<double>(p);

@@ -27,6 +27,7 @@
 #include "collide/box_test.hpp"
 #include "collide/query_common.hpp"
 #include "collide/query_workspace.hpp"
+#include "collide/tri_batch.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
 #include "tightbvh/collide_trace.hpp"
@@ -343,14 +344,19 @@ void BM_ReplayBoxTests(benchmark::State& state) {
 BENCHMARK(BM_ReplayBoxTests)->ArgsProduct({{0, 1, 2}, {0, 1}})->ArgNames({"scenario", "all_pairs"});
 
 // Args: scenario, mode. The leaf pairs' triangle tests as collide_trees makes them: B's
-// triangles mapped into A's frame, then the exact test against each of A's.
+// triangles mapped into A's frame, then the exact test against each of A's; all_pairs queues
+// them for the four-lane test where the CPU has AVX2 (tri_batch.hpp), as collide() does.
 void BM_ReplayTriangleTests(benchmark::State& state) {
   const Scene& sc = scene();
-  const Recorded& rec = recorded(static_cast<int>(state.range(0)), state.range(1) != 0);
+  const bool all_pairs = state.range(1) != 0;
+  const Recorded& rec = recorded(static_cast<int>(state.range(0)), all_pairs);
   const Tree& ta = *rec.ta;
   const Tree& tb = *rec.tb;
+  const bool lanes = all_pairs && query_detail::avx2_bounds_available();
   std::size_t tests = 0, hits = 0;
   std::array<Vec3, 3> mapped;
+  query_detail::TrianglePairBatch batch;
+  QueryResult batched;
   for (auto _ : state) {
     for (std::size_t q = 0; q < rec.leaves.size(); ++q) {
       const Pose& rel = sc.poses[state.range(0)][q];
@@ -362,12 +368,18 @@ void BM_ReplayTriangleTests(benchmark::State& state) {
           for (int k = 0; k < 3; ++k) mapped[k] = query_detail::map_point(rel, sc.b.vertices[tri[k]]);
           for (std::uint32_t i = 0; i < na.count; ++i) {
             const Triangle& ta_tri = sc.a.triangles[ta.triangle_order[na.first + i]];
-            hits += tri_tri_overlap(sc.a.vertices[ta_tri[0]], sc.a.vertices[ta_tri[1]], sc.a.vertices[ta_tri[2]],
-                                    mapped[0], mapped[1], mapped[2]);
+            const Vec3 &p0 = sc.a.vertices[ta_tri[0]], &p1 = sc.a.vertices[ta_tri[1]], &p2 = sc.a.vertices[ta_tri[2]];
+            if (lanes)
+              batch.add(p0, p1, p2, mapped[0], mapped[1], mapped[2], {i, j}, batched);
+            else
+              hits += tri_tri_overlap(p0, p1, p2, mapped[0], mapped[1], mapped[2]);
             ++tests;
           }
         }
       }
+      batch.flush(batched);
+      hits += batched.pairs.size();
+      batched.pairs.clear();
     }
   }
   benchmark::DoNotOptimize(hits);

@@ -29,7 +29,11 @@ class TrianglePairBatch {
     if (size_ == 0) return;
     for (int lane = size_; lane < 4; ++lane)  // unused lanes repeat lane 0; their answers are dropped
       for (auto& value : lanes_.c) value[lane] = value[0];
+#ifdef TIGHTBVH_AVX2_BOUNDS
     const int answer = tri_tri_overlap4_avx2(lanes_);
+#else
+    const int answer = 0;  // no lanes here (callers queue only where avx2_bounds_available()): all exact
+#endif
     for (int lane = 0; lane < size_; ++lane) {
       const bool touch = (answer >> lane & 1) != 0 ? (answer >> (4 + lane) & 1) != 0 : exact(lane);
       if (touch) {

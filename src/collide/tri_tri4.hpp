@@ -20,7 +20,8 @@ struct TriPairs4 {
   alignas(32) double c[18][4];
 };
 
-// Bit l (l < 4): lane l decided. Bit 4 + l: lane l's triangles touch (only where decided).
+// Defined where TIGHTBVH_AVX2_BOUNDS is (box_bounds4.hpp). Bit l (l < 4): lane l decided.
+// Bit 4 + l: lane l's triangles touch (only where decided).
 [[nodiscard]] int tri_tri_overlap4_avx2(const TriPairs4& pairs);
 
 }  // namespace tightbvh::query_detail

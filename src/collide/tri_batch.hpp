@@ -1,13 +1,15 @@
 #pragma once
 // Internal: all_pairs' triangle pairs queued for the four-lane test (tri_tri4.hpp), shared by
 // collide() and the cost model's replay (bench/collide/collide_bench.cpp).
-#include <vector>
-
+#include "../geometry/predicates.hpp"
 #include "tightbvh/collide.hpp"
 #include "tightbvh/tri_tri.hpp"
 #include "tri_tri4.hpp"
 
 namespace tightbvh::query_detail {
+
+// The lanes decide exactly where the scalar filter would: the same bound.
+static_assert(kTriLanesFilterBound == detail::kOrient3dBound);
 
 // The triangle pairs of an all_pairs query waiting for tri_tri_overlap4_avx2 (tri_tri4.hpp): an
 // all_pairs walk tests every leaf pair and never stops, so its tests can wait and go four at a

@@ -8,11 +8,14 @@
 // sign (a corner within rounding of the other triangle's plane: touching, coplanar or degenerate
 // pairs, NaN) is left undecided and the caller runs tri_tri_overlap() on it. Compiled with
 // -mavx2 (tri_tri_avx2.cpp, x86-64 with GCC or Clang); callers check avx2_bounds_available().
-#include <cstdint>
-
 #include "box_bounds4.hpp"
 
 namespace tightbvh::query_detail {
+
+// The lanes' filter bound: predicates.hpp's kOrient3dBound (16 u, u = 2^-53), the relative bound
+// of OrientPlane::filter (restated here, as this header is compiled without Eigen; tri_batch.hpp
+// checks that the two agree).
+inline constexpr double kTriLanesFilterBound = 16.0 * 1.1102230246251565e-16;
 
 // Four pairs, structure of arrays: c[3 * k + i][lane] is coordinate i of corner k, corners
 // p0, p1, p2 (A's triangle) then q0, q1, q2 (B's, in A's frame).

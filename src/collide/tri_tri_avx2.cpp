@@ -9,9 +9,6 @@
 namespace tightbvh::query_detail {
 namespace {
 
-// predicates.hpp's kOrient3dBound (16 u, u = 2^-53): OrientPlane::filter's relative bound.
-constexpr double kFilterBound = 16.0 * 1.1102230246251565e-16;
-
 struct V3 {
   __m256d x, y, z;
 };
@@ -57,7 +54,7 @@ inline Side side(const Plane& p, const V3& d) {
   const __m256d perm = _mm256_add_pd(
       _mm256_add_pd(_mm256_mul_pd(p.permanent.x, abs4(w.x)), _mm256_mul_pd(p.permanent.y, abs4(w.y))),
       _mm256_mul_pd(p.permanent.z, abs4(w.z)));
-  const __m256d bound = _mm256_mul_pd(_mm256_set1_pd(kFilterBound), perm);
+  const __m256d bound = _mm256_mul_pd(_mm256_set1_pd(kTriLanesFilterBound), perm);
   const __m256d neg = _mm256_sub_pd(_mm256_setzero_pd(), det);
   return {_mm256_cmp_pd(det, bound, _CMP_GT_OQ), _mm256_cmp_pd(neg, bound, _CMP_GT_OQ)};
 }

@@ -1,0 +1,76 @@
+#pragma once
+/// @file
+/// A Model: one triangle mesh and its tree, built once, immutable, shared by any number of posed
+/// objects (scene.hpp) as a std::shared_ptr<const Model>. It also keeps what repeated queries on
+/// the mesh need, computed once: the mesh's closedness (for solid queries, closed.hpp) and a
+/// double-precision box around the mesh (for the scene's top-level tree).
+#include <cstddef>
+#include <memory>
+
+#include "tightbvh/build.hpp"
+#include "tightbvh/closed.hpp"
+#include "tightbvh/collide.hpp"
+#include "tightbvh/distance.hpp"
+#include "tightbvh/mesh.hpp"
+#include "tightbvh/obb.hpp"
+#include "tightbvh/pose.hpp"
+#include "tightbvh/query_workspace.hpp"
+#include "tightbvh/tree.hpp"
+
+namespace tightbvh {
+
+/// A mesh, its tree and the per-mesh data of repeated queries. Immutable after construction.
+class Model {
+ public:
+  /// Checks `mesh` (check_mesh: InputError on NaN, out-of-range indices, no triangles) and builds
+  /// its tree with `options`.
+  explicit Model(Mesh mesh, const BuildOptions& options = {});
+  /// Takes a tree built earlier over `mesh` (loaded from a file, say). InputError unless the mesh
+  /// is valid and the tree passes validate(tree, mesh) (validate_tree.hpp).
+  Model(Mesh mesh, Tree tree);
+
+  /// The mesh, in the model's own frame.
+  [[nodiscard]] const Mesh& mesh() const { return mesh_; }
+  /// The tree over mesh().
+  [[nodiscard]] const Tree& tree() const { return tree_; }
+  /// check_closed(mesh()), computed once; the solid queries on models use it.
+  [[nodiscard]] const Closedness& closedness() const { return closedness_; }
+  /// A box around every vertex, in double precision with exactly orthonormal axes (the root
+  /// node's axes, orthonormalised, the extents measured again and padded for rounding): what the
+  /// scene's top-level tree bounds the model by under a pose.
+  [[nodiscard]] const Obb& bounds() const { return bounds_; }
+  /// The heap bytes this model holds (vertices, triangles, tree nodes and order, closedness).
+  [[nodiscard]] std::size_t bytes() const;
+
+ private:
+  void finish();
+
+  Mesh mesh_;
+  Tree tree_;
+  Closedness closedness_;
+  Obb bounds_;
+};
+
+/// How models are shared: by any number of scene objects and threads, never modified.
+using ModelPtr = std::shared_ptr<const Model>;
+
+/// A shared model built from `mesh` (see Model(Mesh, const BuildOptions&)).
+[[nodiscard]] ModelPtr make_model(Mesh mesh, const BuildOptions& options = {});
+/// A shared model from an existing tree over `mesh`, validated (see Model(Mesh, Tree)).
+[[nodiscard]] ModelPtr make_model(Mesh mesh, Tree tree);
+
+/// collide() (collide.hpp) of two posed models. With options.solid, a null closed_a / closed_b
+/// is taken from the models (computed once at construction).
+[[nodiscard]] QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
+                                  const QueryOptions& options = {});
+/// The same answer, with caller-owned scratch (no allocation per query).
+[[nodiscard]] QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
+                                  const QueryOptions& options, QueryWorkspace& workspace);
+/// distance() (distance.hpp) of two posed models; closedness from the models as for collide().
+[[nodiscard]] DistanceResult distance(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
+                                      const DistanceOptions& options = {});
+/// The same answer, with caller-owned scratch.
+[[nodiscard]] DistanceResult distance(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
+                                      const DistanceOptions& options, QueryWorkspace& workspace);
+
+}  // namespace tightbvh

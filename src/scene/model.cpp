@@ -1,0 +1,113 @@
+// Model: a mesh, its tree and the per-mesh data of repeated queries (model.hpp).
+#include "tightbvh/model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "tightbvh/error.hpp"
+#include "tightbvh/validate_tree.hpp"
+
+namespace tightbvh {
+
+namespace {
+
+// The root box's axes made exactly orthonormal (Gram-Schmidt in double; the float axes are
+// orthonormal to about 2e-7, compact_box.hpp), the vertices' range measured along them, and the
+// extents padded by a relative 1e-12 of the mesh's size for the rounding of that measurement and
+// of the later transform (scene.cpp pads the posed box again).
+Obb mesh_bounds(const Mesh& mesh, const Tree& tree) {
+  Mat3 axes = tree.nodes.empty() ? Mat3::Identity() : tree.nodes[0].box.axes_d();
+  Vec3 x = axes.col(0).normalized();
+  Vec3 y = (axes.col(1) - x.dot(axes.col(1)) * x).normalized();
+  if (!x.allFinite() || !y.allFinite()) x = Vec3::UnitX(), y = Vec3::UnitY();
+  axes.col(0) = x;
+  axes.col(1) = y;
+  axes.col(2) = x.cross(y);
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 hi = -lo;
+  for (const Vec3& v : mesh.vertices) {
+    const Vec3 p = axes.transpose() * v;
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  double scale = 0.0;
+  for (const Vec3& v : mesh.vertices) scale = std::max(scale, v.cwiseAbs().maxCoeff());
+  Obb box;
+  box.axes = axes;
+  box.center = axes * (0.5 * (lo + hi));
+  box.half_extents = (0.5 * (hi - lo)).array() + 1e-12 * scale + std::numeric_limits<double>::min();
+  return box;
+}
+
+QueryOptions with_closedness(const Model& a, const Model& b, const QueryOptions& options) {
+  QueryOptions o = options;
+  if (o.solid) {
+    if (!o.closed_a) o.closed_a = &a.closedness();
+    if (!o.closed_b) o.closed_b = &b.closedness();
+  }
+  return o;
+}
+
+DistanceOptions with_closedness(const Model& a, const Model& b, const DistanceOptions& options) {
+  DistanceOptions o = options;
+  if (o.solid) {
+    if (!o.closed_a) o.closed_a = &a.closedness();
+    if (!o.closed_b) o.closed_b = &b.closedness();
+  }
+  return o;
+}
+
+}  // namespace
+
+Model::Model(Mesh mesh, const BuildOptions& options) : mesh_(std::move(mesh)) {
+  check_mesh(mesh_, "model");
+  tree_ = build(mesh_, options);
+  finish();
+}
+
+Model::Model(Mesh mesh, Tree tree) : mesh_(std::move(mesh)), tree_(std::move(tree)) {
+  check_mesh(mesh_, "model");
+  const TreeCheck check = validate(tree_, mesh_);
+  if (!check.ok()) throw InputError("model: the tree does not fit the mesh: " + check.summary());
+  finish();
+}
+
+void Model::finish() {
+  closedness_ = check_closed(mesh_);
+  bounds_ = mesh_bounds(mesh_, tree_);
+}
+
+std::size_t Model::bytes() const {
+  return mesh_.vertices.capacity() * sizeof(Vec3) + mesh_.triangles.capacity() * sizeof(Triangle) +
+         tree_.nodes.capacity() * sizeof(Node) + tree_.triangle_order.capacity() * sizeof(std::uint32_t) +
+         closedness_.pieces.capacity() * sizeof(std::uint32_t) + closedness_.problem.capacity();
+}
+
+ModelPtr make_model(Mesh mesh, const BuildOptions& options) {
+  return std::make_shared<const Model>(std::move(mesh), options);
+}
+
+ModelPtr make_model(Mesh mesh, Tree tree) { return std::make_shared<const Model>(std::move(mesh), std::move(tree)); }
+
+QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb, const QueryOptions& options) {
+  return collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, with_closedness(a, b, options));
+}
+
+QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb, const QueryOptions& options,
+                    QueryWorkspace& workspace) {
+  return collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, with_closedness(a, b, options), workspace);
+}
+
+DistanceResult distance(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
+                        const DistanceOptions& options) {
+  return distance(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, with_closedness(a, b, options));
+}
+
+DistanceResult distance(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
+                        const DistanceOptions& options, QueryWorkspace& workspace) {
+  return distance(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, with_closedness(a, b, options), workspace);
+}
+
+}  // namespace tightbvh

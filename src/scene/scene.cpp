@@ -1,0 +1,578 @@
+// Scene: posed objects sharing models, a top-level tree over their world boxes (scene.hpp).
+#include "tightbvh/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <sstream>
+#include <thread>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+
+#include "../tree/parallel.hpp"
+#include "tightbvh/error.hpp"
+#include "top_tree.hpp"
+
+namespace tightbvh {
+
+namespace scene_detail {
+
+struct Slot {
+  ObjectId id = 0;
+  SceneObject object;
+  Aabb box;  // world_bounds(model, pose)
+};
+
+std::uint64_t pair_key(ObjectId a, ObjectId b) {
+  if (a > b) std::swap(a, b);
+  return (std::uint64_t{a} << 32) | b;
+}
+
+struct State {
+  std::vector<Slot> slots;
+  std::unordered_map<ObjectId, std::uint32_t> index;  // id -> slot
+  std::unordered_map<std::string, ObjectId> names;
+  std::unordered_set<std::uint64_t> allowed;
+  ObjectId next_id = 0;
+
+  // The top-level tree: a cache brought up to date by prepare() under `mutex`.
+  mutable std::mutex mutex;
+  mutable TopTree tree;
+  mutable std::vector<Aabb> boxes;  // boxes[slot], as the tree holds them
+  mutable bool structure_dirty = false;
+  mutable bool poses_dirty = false;
+  mutable std::uint64_t rebuilds = 0;
+  mutable std::uint64_t refits = 0;
+  mutable double built_cost = 0.0;
+
+  State() = default;
+  State(const State& o)
+      : slots(o.slots), index(o.index), names(o.names), allowed(o.allowed), next_id(o.next_id),
+        structure_dirty(true) {}
+
+  [[nodiscard]] const Slot& slot(ObjectId id, const char* who) const {
+    const auto it = index.find(id);
+    if (it == index.end()) {
+      throw InputError(std::string("scene: ") + who + ": no object with id " + std::to_string(id) +
+                       (id < next_id ? " (it was removed)" : ""));
+    }
+    return slots[it->second];
+  }
+  [[nodiscard]] Slot& slot(ObjectId id, const char* who) {
+    return const_cast<Slot&>(static_cast<const State&>(*this).slot(id, who));
+  }
+
+  void prepare() const {
+    const std::lock_guard lock(mutex);
+    if (structure_dirty) {
+      boxes.resize(slots.size());
+      for (std::size_t i = 0; i < slots.size(); ++i) boxes[i] = slots[i].box;
+      rebuild();
+    } else if (poses_dirty) {
+      for (std::size_t i = 0; i < slots.size(); ++i) boxes[i] = slots[i].box;
+      tree.refit(boxes);
+      ++refits;
+      // A refit keeps the structure of the poses at the last build; once the boxes have drifted
+      // so that the tree is twice as loose, rebuilding costs less than the extra box tests.
+      if (tree.cost() > 2.0 * built_cost) rebuild();
+    }
+    structure_dirty = poses_dirty = false;
+  }
+
+  void rebuild() const {
+    tree.build(boxes);
+    built_cost = tree.cost();
+    ++rebuilds;
+  }
+};
+
+struct Access {
+  static const State& state(const Scene& scene) { return *scene.state_; }
+};
+
+}  // namespace scene_detail
+
+using scene_detail::Access;
+using scene_detail::Slot;
+using scene_detail::State;
+using scene_detail::TopTree;
+
+// ------------------------------------------------------------------ poses and boxes
+
+void require_valid_pose(const Pose& pose, const std::string& who, const std::string& what) {
+  if (!pose.rotation.allFinite() || !pose.translation.allFinite())
+    throw InputError(who + ": " + what + ": the pose is not finite (NaN or infinity)");
+  const double deviation = (pose.rotation.transpose() * pose.rotation - Mat3::Identity()).cwiseAbs().maxCoeff();
+  if (!(deviation <= kRotationTolerance)) {
+    std::ostringstream s;
+    s << who << ": " << what << ": the rotation is not orthonormal (|R^T R - I| = " << deviation << " > "
+      << kRotationTolerance << ")";
+    throw InputError(s.str());
+  }
+  if (pose.rotation.determinant() < 0.0) throw InputError(who + ": " + what + ": the rotation is a reflection (det < 0)");
+}
+
+Aabb world_bounds(const Model& model, const Pose& pose) {
+  const Obb& o = model.bounds();
+  const Vec3 c = pose.apply(o.center);
+  const Vec3 h = (pose.rotation * o.axes).cwiseAbs() * o.half_extents;
+  // Covers the rounding of this transform and of the pair queries' own (B mapped into A's frame).
+  const Vec3 pad = Vec3::Constant(1e-9 * (c.cwiseAbs().maxCoeff() + h.maxCoeff()) + std::numeric_limits<double>::min());
+  Aabb box;
+  box.min = c - h - pad;
+  box.max = c + h + pad;
+  return box;
+}
+
+namespace {
+
+std::string object_label(ObjectId id, const std::string& name) {
+  return "object " + std::to_string(id) + (name.empty() ? std::string() : " ('" + name + "')");
+}
+
+unsigned resolve_threads(unsigned threads, std::size_t jobs) {
+  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  return static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(jobs, 1)));
+}
+
+// results[i] = fn(i, workspace) for i in [0, count) on `threads` threads; order independent.
+template <class Result, class Fn>
+std::vector<Result> run_jobs(std::size_t count, unsigned threads, Fn&& fn) {
+  std::vector<Result> results(count);
+  if (count == 0) return results;
+  threads = resolve_threads(threads, count);
+  detail::WorkerPool<QueryWorkspace> pool(threads);
+  const std::size_t chunk = std::clamp<std::size_t>(count / (16 * std::size_t{threads}), 1, 64);
+  pool.run(count, [&](std::size_t i, QueryWorkspace& workspace) { results[i] = fn(i, workspace); }, chunk);
+  return results;
+}
+
+bool filters_meet(const SceneObject& a, const SceneObject& b) {
+  return (a.group & b.mask) != 0 && (b.group & a.mask) != 0;
+}
+
+// An object pair to query: A's slot and B's slot (or the query object), ids for the order.
+struct Job {
+  ObjectId a = 0;
+  ObjectId b = 0;
+  const Slot* sa = nullptr;
+  const Slot* sb = nullptr;
+  friend bool operator<(const Job& x, const Job& y) { return std::pair(x.a, x.b) < std::pair(y.a, y.b); }
+};
+
+QueryOptions scene_options(const QueryOptions& options) {
+  QueryOptions o = options;
+  o.closed_a = o.closed_b = nullptr;  // each model's own (model.hpp)
+  return o;
+}
+
+DistanceOptions scene_options(const DistanceOptions& options) {
+  DistanceOptions o = options;
+  o.closed_a = o.closed_b = nullptr;
+  return o;
+}
+
+void check_margin(double margin) {
+  if (!(margin >= 0.0) || !std::isfinite(margin))
+    throw InputError("scene collide: margin must be finite and >= 0, got " + std::to_string(margin));
+}
+
+void check_max_distance(double d) {
+  if (!(d > 0.0)) throw InputError("scene distance_within: max_distance must be > 0, got " + std::to_string(d));
+}
+
+// The tested pairs of one scene whose boxes are within `gap`, sorted by (a, b) with a < b.
+std::vector<Job> self_jobs(const State& s, double gap) {
+  s.prepare();
+  std::vector<Job> jobs;
+  scene_detail::close_pairs(s.tree, s.tree, true, gap, [&](std::uint32_t i, std::uint32_t j) {
+    const Slot* x = &s.slots[i];
+    const Slot* y = &s.slots[j];
+    if (x->id > y->id) std::swap(x, y);
+    if (!filters_meet(x->object, y->object) || s.allowed.contains(scene_detail::pair_key(x->id, y->id))) return;
+    jobs.push_back({x->id, y->id, x, y});
+  });
+  std::sort(jobs.begin(), jobs.end());
+  return jobs;
+}
+
+std::vector<Job> cross_jobs(const State& a, const State& b, double gap) {
+  if (&a == &b) throw InputError("scene query: the two scenes are the same scene (query it alone for its own pairs)");
+  a.prepare();
+  b.prepare();
+  std::vector<Job> jobs;
+  scene_detail::close_pairs(a.tree, b.tree, false, gap, [&](std::uint32_t i, std::uint32_t j) {
+    const Slot* x = &a.slots[i];
+    const Slot* y = &b.slots[j];
+    if (filters_meet(x->object, y->object)) jobs.push_back({x->id, y->id, x, y});
+  });
+  std::sort(jobs.begin(), jobs.end());
+  return jobs;
+}
+
+// The scene objects whose boxes are within `gap` of the query box, sorted by id.
+std::vector<Job> single_jobs(const State& s, const Aabb& query, double gap) {
+  s.prepare();
+  TopTree one;
+  one.build(std::span<const Aabb>(&query, 1));
+  std::vector<Job> jobs;
+  scene_detail::close_pairs(s.tree, one, false, gap, [&](std::uint32_t i, std::uint32_t) {
+    jobs.push_back({s.slots[i].id, 0, &s.slots[i], nullptr});
+  });
+  std::sort(jobs.begin(), jobs.end());
+  return jobs;
+}
+
+std::vector<ObjectPairHit> collide_jobs(const std::vector<Job>& jobs, const QueryOptions& options, unsigned threads) {
+  const QueryOptions o = scene_options(options);
+  auto results = run_jobs<QueryResult>(jobs.size(), threads, [&](std::size_t i, QueryWorkspace& workspace) {
+    const Job& j = jobs[i];
+    return collide(*j.sa->object.model, j.sa->object.pose, *j.sb->object.model, j.sb->object.pose, o, workspace);
+  });
+  std::vector<ObjectPairHit> hits;
+  for (std::size_t i = 0; i < jobs.size(); ++i)
+    if (results[i].hit) hits.push_back({jobs[i].a, jobs[i].b, std::move(results[i])});
+  return hits;
+}
+
+std::vector<ObjectPairDistance> within_jobs(const std::vector<Job>& jobs, double max_distance,
+                                            const DistanceOptions& options, unsigned threads) {
+  DistanceOptions o = scene_options(options);
+  o.upper_bound = max_distance;
+  auto results = run_jobs<DistanceResult>(jobs.size(), threads, [&](std::size_t i, QueryWorkspace& workspace) {
+    const Job& j = jobs[i];
+    return distance(*j.sa->object.model, j.sa->object.pose, *j.sb->object.model, j.sb->object.pose, o, workspace);
+  });
+  std::vector<ObjectPairDistance> out;
+  for (std::size_t i = 0; i < jobs.size(); ++i)
+    if (!results[i].beyond_upper_bound) out.push_back({jobs[i].a, jobs[i].b, std::move(results[i])});
+  return out;
+}
+
+// Best first over the candidate pairs; `accept(i, j, job)` filters a leaf pair into a Job. A pair
+// at the same distance as the best so far is still measured (upper bound just above it), so
+// that ties go to the lowest (a, b) whatever order the traversal meets them in.
+template <class Accept>
+std::optional<ObjectPairDistance> nearest(const TopTree& x, const TopTree& y, bool self, const DistanceOptions& options,
+                                          Accept&& accept) {
+  DistanceOptions o = scene_options(options);
+  std::optional<ObjectPairDistance> best;
+  double bound = options.upper_bound;
+  QueryWorkspace workspace;
+  scene_detail::nearest_pairs(x, y, self, bound, [&](std::uint32_t i, std::uint32_t j, double& best_distance) {
+    Job job;
+    if (!accept(i, j, job)) return;
+    o.upper_bound = best ? std::nextafter(best->result.distance, std::numeric_limits<double>::infinity())
+                         : options.upper_bound;
+    DistanceResult r = distance(*job.sa->object.model, job.sa->object.pose, *job.sb->object.model,
+                                job.sb->object.pose, o, workspace);
+    if (r.beyond_upper_bound) return;
+    if (!best || r.distance < best->result.distance ||
+        (r.distance == best->result.distance && std::pair(job.a, job.b) < std::pair(best->a, best->b))) {
+      best = ObjectPairDistance{job.a, job.b, std::move(r)};
+      best_distance = best->result.distance;
+    }
+  });
+  return best;
+}
+
+// A one-object stand-in for the query object of the single-object queries.
+struct QueryObject {
+  Slot slot;
+  TopTree tree;
+  QueryObject(const Model& model, const Pose& pose, const char* who) {
+    require_valid_pose(pose, who, "the query pose");
+    // The slot holds a non-owning pointer to the caller's model for the query's duration.
+    slot.object.model = ModelPtr(ModelPtr(), &model);
+    slot.object.pose = pose;
+    slot.box = world_bounds(model, pose);
+    tree.build(std::span<const Aabb>(&slot.box, 1));
+  }
+};
+
+}  // namespace
+
+// ------------------------------------------------------------------ Scene
+
+Scene::Scene() : state_(std::make_unique<State>()) {}
+Scene::~Scene() = default;
+Scene::Scene(const Scene& other) : state_(std::make_unique<State>(*other.state_)) {}
+Scene& Scene::operator=(const Scene& other) {
+  if (this != &other) state_ = std::make_unique<State>(*other.state_);
+  return *this;
+}
+Scene::Scene(Scene&& other) noexcept : state_(std::exchange(other.state_, std::make_unique<State>())) {}
+Scene& Scene::operator=(Scene&& other) noexcept {
+  if (this != &other) state_ = std::exchange(other.state_, std::make_unique<State>());
+  return *this;
+}
+
+ObjectId Scene::add(SceneObject object) {
+  State& s = *state_;
+  const ObjectId id = s.next_id;
+  const std::string label = object_label(id, object.name);
+  if (!object.model) throw InputError("scene: add: " + label + ": the model is null");
+  require_valid_pose(object.pose, "scene: add", label);
+  if (!object.name.empty() && s.names.contains(object.name))
+    throw InputError("scene: add: duplicate name '" + object.name + "' (object " +
+                     std::to_string(s.names.at(object.name)) + " has it)");
+  if (id == std::numeric_limits<ObjectId>::max()) throw InputError("scene: add: out of object ids");
+  ++s.next_id;
+  Slot slot;
+  slot.id = id;
+  slot.box = tightbvh::world_bounds(*object.model, object.pose);
+  slot.object = std::move(object);
+  if (!slot.object.name.empty()) s.names.emplace(slot.object.name, id);
+  s.index.emplace(id, static_cast<std::uint32_t>(s.slots.size()));
+  s.slots.push_back(std::move(slot));
+  s.structure_dirty = true;
+  return id;
+}
+
+ObjectId Scene::add(ModelPtr model, const Pose& pose, std::string name) {
+  SceneObject object;
+  object.model = std::move(model);
+  object.pose = pose;
+  object.name = std::move(name);
+  return add(std::move(object));
+}
+
+void Scene::remove(ObjectId id) {
+  State& s = *state_;
+  (void)s.slot(id, "remove");  // InputError for an unknown or removed id
+  const std::uint32_t at = s.index.at(id);
+  if (!s.slots[at].object.name.empty()) s.names.erase(s.slots[at].object.name);
+  std::erase_if(s.allowed, [&](std::uint64_t key) { return (key >> 32) == id || (key & 0xffffffffu) == id; });
+  s.index.erase(id);
+  if (at + 1 != s.slots.size()) {
+    s.slots[at] = std::move(s.slots.back());
+    s.index[s.slots[at].id] = at;
+  }
+  s.slots.pop_back();
+  s.structure_dirty = true;
+}
+
+void Scene::set_pose(ObjectId id, const Pose& pose) {
+  Slot& slot = state_->slot(id, "set_pose");
+  require_valid_pose(pose, "scene: set_pose", object_label(id, slot.object.name));
+  slot.object.pose = pose;
+  slot.box = tightbvh::world_bounds(*slot.object.model, pose);
+  state_->poses_dirty = true;
+}
+
+void Scene::set_poses(std::span<const ObjectId> ids, std::span<const Pose> poses) {
+  if (ids.size() != poses.size())
+    throw InputError("scene: set_poses: " + std::to_string(ids.size()) + " ids but " + std::to_string(poses.size()) +
+                     " poses");
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const Slot& slot = state_->slot(ids[i], "set_poses");
+    require_valid_pose(poses[i], "scene: set_poses: entry " + std::to_string(i), object_label(ids[i], slot.object.name));
+  }
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    Slot& slot = state_->slot(ids[i], "set_poses");
+    slot.object.pose = poses[i];
+    slot.box = tightbvh::world_bounds(*slot.object.model, poses[i]);
+  }
+  if (!ids.empty()) state_->poses_dirty = true;
+}
+
+void Scene::set_filter(ObjectId id, std::uint32_t group, std::uint32_t mask) {
+  Slot& slot = state_->slot(id, "set_filter");
+  slot.object.group = group;
+  slot.object.mask = mask;
+}
+
+void Scene::allow(ObjectId a, ObjectId b) {
+  (void)state_->slot(a, "allow");
+  (void)state_->slot(b, "allow");
+  if (a == b) throw InputError("scene: allow: an object with itself (" + std::to_string(a) + ")");
+  state_->allowed.insert(scene_detail::pair_key(a, b));
+}
+
+void Scene::disallow(ObjectId a, ObjectId b) { state_->allowed.erase(scene_detail::pair_key(a, b)); }
+
+bool Scene::allowed(ObjectId a, ObjectId b) const { return state_->allowed.contains(scene_detail::pair_key(a, b)); }
+
+bool Scene::tested(ObjectId a, ObjectId b) const {
+  return a != b && filters_meet(object(a), object(b)) && !allowed(a, b);
+}
+
+bool Scene::contains(ObjectId id) const { return state_->index.contains(id); }
+
+const SceneObject& Scene::object(ObjectId id) const { return state_->slot(id, "object").object; }
+
+std::optional<ObjectId> Scene::find(std::string_view name) const {
+  const auto it = state_->names.find(std::string(name));
+  if (it == state_->names.end()) return std::nullopt;
+  return it->second;
+}
+
+std::vector<ObjectId> Scene::ids() const {
+  std::vector<ObjectId> out;
+  out.reserve(state_->slots.size());
+  for (const Slot& slot : state_->slots) out.push_back(slot.id);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::size_t Scene::size() const { return state_->slots.size(); }
+
+Aabb Scene::world_bounds(ObjectId id) const { return state_->slot(id, "world_bounds").box; }
+
+std::size_t Scene::model_count() const {
+  std::unordered_set<const Model*> models;
+  for (const Slot& slot : state_->slots) models.insert(slot.object.model.get());
+  return models.size();
+}
+
+std::size_t Scene::model_bytes() const {
+  std::unordered_set<const Model*> models;
+  std::size_t bytes = 0;
+  for (const Slot& slot : state_->slots)
+    if (models.insert(slot.object.model.get()).second) bytes += slot.object.model->bytes();
+  return bytes;
+}
+
+std::size_t Scene::own_bytes() const {
+  const State& s = *state_;
+  std::size_t bytes = s.slots.capacity() * sizeof(Slot) + s.boxes.capacity() * sizeof(Aabb) + s.tree.bytes();
+  for (const Slot& slot : s.slots) bytes += slot.object.name.capacity() > 15 ? slot.object.name.capacity() : 0;
+  // Hash tables: one node (key, value, next pointer) per entry plus the bucket array.
+  bytes += s.index.size() * (sizeof(std::pair<ObjectId, std::uint32_t>) + sizeof(void*)) +
+           s.index.bucket_count() * sizeof(void*);
+  bytes += s.names.size() * (sizeof(std::pair<std::string, ObjectId>) + sizeof(void*)) +
+           s.names.bucket_count() * sizeof(void*);
+  bytes += s.allowed.size() * (sizeof(std::uint64_t) + sizeof(void*)) + s.allowed.bucket_count() * sizeof(void*);
+  return bytes;
+}
+
+SceneTreeStats Scene::tree_stats() const {
+  const State& s = *state_;
+  s.prepare();
+  SceneTreeStats stats;
+  stats.objects = s.slots.size();
+  stats.nodes = s.tree.nodes().size();
+  stats.rebuilds = s.rebuilds;
+  stats.refits = s.refits;
+  stats.cost = s.tree.cost();
+  stats.built_cost = s.built_cost;
+  return stats;
+}
+
+// ------------------------------------------------------------------ queries
+
+std::vector<ObjectPairHit> collide(const Scene& scene, const QueryOptions& options, unsigned threads) {
+  check_margin(options.margin);
+  return collide_jobs(self_jobs(Access::state(scene), options.margin), options, threads);
+}
+
+std::vector<ObjectHit> collide(const Scene& scene, const Model& model, const Pose& pose, const QueryOptions& options,
+                               unsigned threads) {
+  check_margin(options.margin);
+  const QueryObject query(model, pose, "scene collide");
+  std::vector<Job> jobs = single_jobs(Access::state(scene), query.slot.box, options.margin);
+  for (Job& j : jobs) j.sb = &query.slot;
+  std::vector<ObjectHit> out;
+  for (ObjectPairHit& hit : collide_jobs(jobs, options, threads)) out.push_back({hit.a, std::move(hit.result)});
+  return out;
+}
+
+std::vector<ObjectPairHit> collide(const Scene& a, const Scene& b, const QueryOptions& options, unsigned threads) {
+  check_margin(options.margin);
+  return collide_jobs(cross_jobs(Access::state(a), Access::state(b), options.margin), options, threads);
+}
+
+std::vector<std::vector<ObjectHit>> collide_batch(const Scene& scene, const Model& model, std::span<const Pose> poses,
+                                                  const QueryOptions& options, unsigned threads) {
+  check_margin(options.margin);
+  for (std::size_t i = 0; i < poses.size(); ++i)
+    require_valid_pose(poses[i], "scene collide_batch", "pose " + std::to_string(i));
+  const State& s = Access::state(scene);
+  s.prepare();
+  const QueryOptions o = scene_options(options);
+  return run_jobs<std::vector<ObjectHit>>(poses.size(), threads, [&](std::size_t i, QueryWorkspace& workspace) {
+    const Aabb box = world_bounds(model, poses[i]);
+    TopTree one;
+    one.build(std::span<const Aabb>(&box, 1));
+    std::vector<std::uint32_t> slots;
+    scene_detail::close_pairs(s.tree, one, false, options.margin,
+                              [&](std::uint32_t slot, std::uint32_t) { slots.push_back(slot); });
+    std::sort(slots.begin(), slots.end(), [&](std::uint32_t x, std::uint32_t y) { return s.slots[x].id < s.slots[y].id; });
+    std::vector<ObjectHit> hits;
+    for (const std::uint32_t slot : slots) {
+      const SceneObject& obj = s.slots[slot].object;
+      QueryResult r = collide(*obj.model, obj.pose, model, poses[i], o, workspace);
+      if (r.hit) hits.push_back({s.slots[slot].id, std::move(r)});
+    }
+    return hits;
+  });
+}
+
+std::optional<ObjectPairDistance> distance(const Scene& scene, const DistanceOptions& options) {
+  const State& s = Access::state(scene);
+  s.prepare();
+  return nearest(s.tree, s.tree, true, options, [&](std::uint32_t i, std::uint32_t j, Job& job) {
+    const Slot* x = &s.slots[i];
+    const Slot* y = &s.slots[j];
+    if (x->id > y->id) std::swap(x, y);
+    if (!filters_meet(x->object, y->object) || s.allowed.contains(scene_detail::pair_key(x->id, y->id))) return false;
+    job = {x->id, y->id, x, y};
+    return true;
+  });
+}
+
+std::optional<ObjectDistance> distance(const Scene& scene, const Model& model, const Pose& pose,
+                                       const DistanceOptions& options) {
+  const QueryObject query(model, pose, "scene distance");
+  const State& s = Access::state(scene);
+  s.prepare();
+  auto best = nearest(s.tree, query.tree, false, options, [&](std::uint32_t i, std::uint32_t, Job& job) {
+    job = {s.slots[i].id, 0, &s.slots[i], &query.slot};
+    return true;
+  });
+  if (!best) return std::nullopt;
+  return ObjectDistance{best->a, std::move(best->result)};
+}
+
+std::optional<ObjectPairDistance> distance(const Scene& a, const Scene& b, const DistanceOptions& options) {
+  const State& sa = Access::state(a);
+  const State& sb = Access::state(b);
+  if (&sa == &sb) throw InputError("scene distance: the two scenes are the same scene (query it alone for its own pairs)");
+  sa.prepare();
+  sb.prepare();
+  return nearest(sa.tree, sb.tree, false, options, [&](std::uint32_t i, std::uint32_t j, Job& job) {
+    const Slot* x = &sa.slots[i];
+    const Slot* y = &sb.slots[j];
+    if (!filters_meet(x->object, y->object)) return false;
+    job = {x->id, y->id, x, y};
+    return true;
+  });
+}
+
+std::vector<ObjectPairDistance> distance_within(const Scene& scene, double max_distance,
+                                                const DistanceOptions& options, unsigned threads) {
+  check_max_distance(max_distance);
+  return within_jobs(self_jobs(Access::state(scene), max_distance), max_distance, options, threads);
+}
+
+std::vector<ObjectDistance> distance_within(const Scene& scene, const Model& model, const Pose& pose,
+                                            double max_distance, const DistanceOptions& options, unsigned threads) {
+  check_max_distance(max_distance);
+  const QueryObject query(model, pose, "scene distance_within");
+  std::vector<Job> jobs = single_jobs(Access::state(scene), query.slot.box, max_distance);
+  for (Job& j : jobs) j.sb = &query.slot;
+  std::vector<ObjectDistance> out;
+  for (ObjectPairDistance& d : within_jobs(jobs, max_distance, options, threads))
+    out.push_back({d.a, std::move(d.result)});
+  return out;
+}
+
+std::vector<ObjectPairDistance> distance_within(const Scene& a, const Scene& b, double max_distance,
+                                                const DistanceOptions& options, unsigned threads) {
+  check_max_distance(max_distance);
+  return within_jobs(cross_jobs(Access::state(a), Access::state(b), max_distance), max_distance, options, threads);
+}
+
+}  // namespace tightbvh

@@ -19,6 +19,7 @@ void add_build_command(CLI::App& app);     // cmd_build.cpp (build, inspect)
 void add_collide_command(CLI::App& app);   // cmd_collide.cpp (--view: apps/view/)
 void add_distance_command(CLI::App& app);  // cmd_distance.cpp
 void add_view_command(CLI::App& app);      // cmd_view.cpp (apps/view/)
+void add_scene_command(CLI::App& app);     // cmd_scene.cpp (scene files, scene_file.hpp)
 
 // The library's pose parser (pose_text.hpp), with the option named in its messages (cmd_collide.cpp).
 [[nodiscard]] Pose parse_pose_option(const std::string& text);

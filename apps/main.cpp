@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   tightbvh::cli::add_collide_command(app);
   tightbvh::cli::add_distance_command(app);
   tightbvh::cli::add_view_command(app);
+  tightbvh::cli::add_scene_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -205,6 +205,47 @@ TEST(Scene, SelfQueriesEqualBruteForceThroughChurn) {
   }
 }
 
+// Boundary cases the random scenes rarely make: unit boxes on a lattice touch their neighbours
+// exactly (faces, edges, corners), and with a spacing of 1 + margin they are exactly `margin`
+// apart. The top level must keep every such pair.
+TEST(Scene, ExactContactsOnALattice) {
+  const ModelPtr box = make_model(query_test::cube());
+  for (const double margin : {0.0, 0.125}) {
+    Scene scene;
+    std::mt19937_64 rng(17);
+    for (int x = 0; x < 4; ++x)
+      for (int y = 0; y < 4; ++y)
+        for (int z = 0; z < 3; ++z) {
+          if (rng() % 5 == 0) continue;
+          Pose p;
+          p.translation = (1.0 + margin) * Vec3(x, y, z);
+          if (rng() % 4 == 0) {  // a quarter turn about z is exact: the box stays where it was
+            p.rotation << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+            p.translation.x() += 1.0;
+          }
+          scene.add(box, p);
+        }
+    const QueryOptions o{.mode = QueryMode::all_pairs, .margin = margin};
+    const auto expected = brute_collide(scene, nullptr, o);
+    EXPECT_GT(expected.size(), 50u);
+    expect_same(collide(scene, o), expected, "lattice margin " + std::to_string(margin));
+    const ObjectId last = scene.ids().back();
+    Pose moved = scene.object(last).pose;
+    moved.translation.z() += 1.0 + margin;  // on top of the lattice, touching exactly again
+    const auto single = collide(scene, *box, moved, o);
+    std::vector<ObjectId> expected_single;
+    for (const ObjectId id : scene.ids()) {
+      SceneObject q;
+      q.model = box;
+      q.pose = moved;
+      if (pair_collide(scene.object(id), q, o).hit) expected_single.push_back(id);
+    }
+    ASSERT_EQ(single.size(), expected_single.size());
+    EXPECT_GE(single.size(), 1u);
+    for (std::size_t i = 0; i < single.size(); ++i) EXPECT_EQ(single[i].id, expected_single[i]);
+  }
+}
+
 TEST(Scene, AllowedPairsAndFiltersAreNeverReported) {
   RandomScene r(scene_test::mixed_models(), 11, 40, 3.0);
   r.allow_some(50);

@@ -7,10 +7,10 @@
 #include <tightbvh/scene.hpp>
 
 #include <Eigen/Geometry>
-#include <optional>
-#include <string>
 #include <cstdio>
 #include <exception>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace {

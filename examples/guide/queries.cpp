@@ -24,7 +24,7 @@ int main() {
   tightbvh::Pose pose_b;
   pose_b.rotation = Eigen::AngleAxisd(0.5, tightbvh::Vec3::UnitZ()).toRotationMatrix();
   pose_b.translation = tightbvh::Vec3(0.1, 0.0, 0.0);
-  // The same pose as the CLI's --pose text: row-major rotation, then translation.
+  // A pose as the CLI's --pose text: the rotation row by row, then the translation.
   const tightbvh::Pose parsed = tightbvh::parse_pose("1 0 0  0 1 0  0 0 1  0.1 0 0");
 
   // Do they touch? first_hit stops at the first touching triangle pair.

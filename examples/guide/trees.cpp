@@ -16,7 +16,7 @@ int main() {
   // one triangle per leaf, all cores. The same tree bit for bit for any thread count.
   const tightbvh::Tree tree = tightbvh::build(mesh);
 
-  // Every option spelled out: the tightest practical boxes, a balanced split, small leaves.
+  // Options spelled out: the tightest practical boxes, a balanced split, small leaves, two threads.
   const tightbvh::BuildResult built = tightbvh::build_with_stats(mesh, {.fitter = tightbvh::FitMethod::approx,
                                                                         .split = tightbvh::SplitMethod::median,
                                                                         .leaf_size = 4,

@@ -271,7 +271,11 @@ int compare(const std::vector<std::filesystem::path>& meshes, int repeats, unsig
                    {"pca", ours(pca)},
                    {"pca_all_threads", ours(pca_all)},
                    {"approx", ours(approx)},
-                   {"auto", ours(automatic)}});
+                   {"auto", ours(automatic)},
+                   {"repeats", repeats},
+                   {"threads", threads},
+                   {"approx_over_pca_time", tight && approx.ok ? nlohmann::json(rounds.ratio(1, 0)) : nlohmann::json(nullptr)},
+                   {"auto_over_pca_time", tight && automatic.ok ? nlohmann::json(rounds.ratio(2, 0)) : nlohmann::json(nullptr)}});
   }
   if (!json_out.empty()) std::ofstream(json_out) << all.dump(2) << '\n';
   return 0;

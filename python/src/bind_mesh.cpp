@@ -24,7 +24,7 @@ py::array_t<T> rows_copy(const std::vector<Row>& values) {
 void bind_mesh(py::module_& m) {
   py::class_<Mesh, std::shared_ptr<Mesh>>(m, "Mesh",
                                           "A triangle soup: float64 vertices (N, 3) and uint32 faces (M, 3). "
-                                          "Immutable: trees built over it rely on it not changing.")
+                                          "Immutable: trees built over it rely on it not changing. Pickles bit for bit.")
       .def(py::init([](py::handle vertices, py::handle faces) {
              return std::make_shared<Mesh>(make_mesh(vertices, faces, "Mesh"));
            }),

@@ -134,8 +134,8 @@ TreeCheck check(const PyTree& tree, py::handle mesh_object) {
 py::object build_stats_state(const BuildStats& b) {
   const TreeStats& s = b.tree;
   return py::make_tuple(b.seconds, s.nodes, s.leaves, s.depth_min, s.depth_max, s.leaf_triangles_min,
-                        s.leaf_triangles_max, s.leaf_triangles_avg, s.sum_volume, py::tuple(py::cast(s.volume_per_level)),
-                        s.bytes, s.bytes_per_triangle);
+                        s.leaf_triangles_max, s.leaf_triangles_avg, s.sum_volume,
+                        py::tuple(py::cast(s.volume_per_level)), s.bytes, s.bytes_per_triangle);
 }
 
 BuildStats state_build_stats(py::handle state) {
@@ -218,7 +218,8 @@ void bind_tree_class(py::module_& m) {
       .def("__repr__", [](const TreeCheck& c) {
         return c.ok() ? std::string("<tightbvh.TreeCheck: valid>") : "<tightbvh.TreeCheck: " + c.summary() + ">";
       });
-  py::class_<PyTree>(m, "Tree", "A tree of oriented boxes over a mesh (build() or Tree.load()); holds its mesh")
+  py::class_<PyTree>(m, "Tree", "A tree of oriented boxes over a mesh (build() or Tree.load()); holds its mesh. Pickles, copies "
+                            "and deep-copies (with its mesh, fitter and build stats; the tree in its file format)")
       .def_property_readonly("stats", &stats_dict, "dict: the keys of `tightbvh build --json`, and seconds if built")
       .def_property_readonly(
           "mesh", [](const PyTree& t) { return std::const_pointer_cast<Mesh>(t.mesh); },

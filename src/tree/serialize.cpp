@@ -6,8 +6,8 @@
 #include <cstring>
 #include <fstream>
 #include <istream>
-#include <ostream>
 #include <limits>
+#include <ostream>
 
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/validate_tree.hpp"

@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <iosfwd>
 #include <span>
 #include <string>
 #include <vector>
@@ -36,5 +37,13 @@ inline constexpr std::uint32_t kTreeFormatVersion = 2;
 // Throws InputError naming the file if it cannot be written / read, or is not a valid tree.
 void save_tree(const Tree& tree, const std::filesystem::path& path);
 [[nodiscard]] Tree load_tree(const std::filesystem::path& path);
+
+/// Writes serialize(tree) to `out` (the bytes of save_tree's file: an in-memory form for
+/// pickling, sockets or archives). Throws InputError naming `destination` if the write fails.
+void save_tree(const Tree& tree, std::ostream& out, const std::string& destination = "stream");
+/// Reads `in` to its end and deserializes it (the file form reads through this). The buffer grows
+/// with the bytes actually read, never with a count the header claims. Throws InputError naming
+/// `source` for a read error or any input deserialize() refuses.
+[[nodiscard]] Tree load_tree(std::istream& in, const std::string& source = "stream");
 
 }  // namespace tightbvh

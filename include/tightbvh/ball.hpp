@@ -31,7 +31,7 @@ struct Ball {
 }
 
 /// The exact minimum enclosing ball: Gaertner's pivoting (repeatedly the farthest point enters the
-/// support set) over an exact small-ball solver for at most 5 points (Welzl 1991, Sec. 2: the ball
+/// support set) over an exact small-ball solver for at most 5 points (Welzl 1991, Section 2: the ball
 /// of a set is the circumball of an affinely independent support subset of at most 4 points).
 /// Computed relative to a local origin. The radius is finally grown so that every point is inside
 /// (contains(p) holds with tolerance 0 for every input point).

@@ -41,7 +41,7 @@ struct AutoFit {
   /// the set on a grid before hulling it) and measure the extents over all vertices; 0: never.
   std::uint32_t column_extremes_above = 65536;
   /// On meshes of more than this many triangles both thresholds grow in proportion to the mesh
-  /// (x n / scale_above, e.g. 2,356 and 147 on bunny00's 75,408 triangles, 37,704 and 2,356 on
+  /// (x n / scale_above, for example 2,356 and 147 on bunny00's 75,408 triangles, 37,704 and 2,356 on
   /// 1.2M); 0: never. A node's share of the sum of volumes follows its fraction of the mesh, not
   /// its triangle count (the pca trees of bunny00 and of bunny00 subdivided twice, 16x the
   /// triangles, hold the same shares in nodes of the same fraction), so on large meshes fixed

@@ -27,8 +27,8 @@ struct Closedness {
   std::size_t boundary_edges = 0;     ///< edges of exactly one triangle
   std::size_t nonmanifold_edges = 0;  ///< edges of three or more triangles
   std::size_t misoriented_edges = 0;  ///< edges of two triangles running along it in the same direction
-  /// Why the mesh is not closed, "" when it is, e.g. "12 boundary edges, e.g. (3, 7)" or
-  /// "inconsistently oriented at edge (3, 7): triangles 10 and 12 both run 3 -> 7".
+  /// Why the mesh is not closed, "" when it is; for example `"12 boundary edges, e.g. (3, 7)"` or
+  /// `"inconsistently oriented at edge (3, 7): triangles 10 and 12 both run 3 -> 7"`.
   std::string problem;
   /// One vertex per piece of the surface (triangles connected through shared vertices), the
   /// lowest index of each piece, ascending. A closed piece that does not touch another surface

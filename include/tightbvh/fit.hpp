@@ -34,7 +34,7 @@ struct FitOptions {
   bool improve = true;             ///< local improvement step (the "(Improved)" rows)
 };
 
-/// The method named `name` (e.g. "approx-kernel"); nullopt for an unknown name. The one table of
+/// The method named `name` (such as "approx-kernel"); nullopt for an unknown name. The one table of
 /// method names (fit.cpp): parsing, printing, listing and help texts use it.
 [[nodiscard]] std::optional<FitMethod> parse_fit_method(std::string_view name);
 /// The name of `method` that parse_fit_method() accepts.
@@ -82,7 +82,7 @@ class FitWorkspace {
 /// The same box, with caller-owned scratch.
 [[nodiscard]] Obb fit_triangles(std::span<const Vec3> corners, const FitOptions& options,
                                 FitWorkspace& workspace);
-/// The same, given also `vertices`: the distinct points among the corners (e.g. the mesh vertices
+/// The same, given also `vertices`: the distinct points among the corners (for example the mesh vertices
 /// the triangles use; the caller guarantees they are the same point set). The hull, the kernel and
 /// the extents are computed from `vertices`, the triangle covariance of pca from `corners`: on a
 /// mesh every vertex is a corner of about six triangles, so hull-based fitters get ~6x fewer points.

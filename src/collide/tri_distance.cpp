@@ -156,9 +156,9 @@ Closest closest_touching(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>
 // arithmetic; either way the same squared distances bit for bit. The winner's points are then
 // recomputed by the scalar kernel (the same operations, so the same values), and the edge pairs
 // flagged nearly parallel or degenerate add their four endpoint-to-segment candidates (rare).
-// Measuring all 15 replaced PQP's early exit (stop at the first candidate whose normal planes
-// separate the triangles), whose test and the clamps' branches were mispredicted about 20 times
-// a pair (callgrind's model) at ~400 ns a pair (perf, shipped separated poses).
+// All 15 are measured rather than stopping early as PQP does (at the first candidate whose normal
+// planes separate the triangles): that test and the clamps' branches are mispredicted about 20
+// times a pair (callgrind's model), at ~400 ns a pair (perf, shipped separated poses).
 
 using query_detail::TriFace;
 using query_detail::TriPairInput;

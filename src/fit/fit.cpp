@@ -71,10 +71,10 @@ Mat3 degenerate_axes(const ConvexHull3& hull, std::vector<Vec2>& polygon, std::v
 // Bopt projects all points instead of the hull's silhouette (same boxes). The hull costs ~1 us
 // for 10 points and ~3 us for 30, so `diameter` (one Bopt) still gains from skipping it up to 32
 // points, `approx` (dozens of Bopt calls, cheaper on the silhouette) only up to 24. Measured on
-// approx tree builds: 16 was best (32: +2.5%, 8: +1%, no skipping: +7%) until tree nodes below 64
-// points took a single improvement start (Extras::by_size), leaving fewer Bopt calls to pay for a
-// hull; since then 24 takes 0.6-1.5% fewer instructions than 16 (knot1, camel, elephant; 32 gains
-// no more on elephant), with the same trees' sums of volumes.
+// approx tree builds, where nodes below 64 points take a single improvement start
+// (Extras::by_size) and so leave fewer Bopt calls to pay for a hull: 24 takes 0.6-1.5% fewer
+// instructions than 16 (knot1, camel, elephant; 32 gains no more on elephant), with the same
+// trees' sums of volumes.
 constexpr std::size_t kSmallSetApprox = 24;
 constexpr std::size_t kSmallSetDiameter = 32;
 

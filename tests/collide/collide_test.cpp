@@ -166,8 +166,8 @@ TEST(Collide, AutoTreesNeedAboutTheBoxTestsOfApproxTrees) {
   const double pca = box_tests(FitMethod::pca);
   const double auto_fit = box_tests(AutoFit{});
   RecordProperty("auto_over_approx", std::to_string(auto_fit / approx));
-  // Issue 13's "within 5%" for all_pairs: measured 1.043 since the small nodes' thinnest normal
-  // (normal-bopt), 1.061 along the area-weighted normal alone, which this bound rejects.
+  // Within 5% for all_pairs: measured 1.043 with the small nodes' thinnest normal (normal-bopt),
+  // 1.061 along the area-weighted normal alone, which this bound rejects.
   EXPECT_LT(auto_fit, 1.05 * approx) << "auto " << auto_fit << ", approx " << approx;
   EXPECT_LT(auto_fit, 0.9 * pca) << "auto " << auto_fit << ", pca " << pca;
 }

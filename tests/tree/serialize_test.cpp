@@ -86,7 +86,7 @@ TEST(Serialize, RejectsWrongMagicVersionAndSizes) {
   auto version = good;
   put_u32(version, 8, 3);
   expect_rejected(version, "unsupported tree format version 3");
-  put_u32(version, 8, 1);  // the double-box format of earlier releases: says what to do
+  put_u32(version, 8, 1);  // version 1, the double-box format: the message says what to do
   expect_rejected(version, "version 1 (double-precision boxes");
   expect_rejected(version, "rebuild the tree");
   expect_rejected(std::vector<std::byte>(good.begin(), good.begin() + 20), "truncated");

@@ -27,7 +27,7 @@ namespace tightbvh {
 /// `medium_min_triangles` get `medium` (approx-kernel: the search on an O(n) extreme-point kernel),
 /// the others `cheap` (normal-bopt: one Bopt along the patch's normal; small nodes are surface
 /// patches, and boxes flush with them cull better in queries than their volume says). The defaults
-/// are measured (README, "Tree builder").
+/// are measured (docs/design-notes/auto-fitter.md, "Spend the search where the volume is").
 struct AutoFit {
   std::uint32_t tight_min_triangles = 1024;     ///< Nodes with at least this many triangles get `tight`
   FitMethod tight = FitMethod::approx;          ///< The fitter of the large nodes.
@@ -45,8 +45,8 @@ struct AutoFit {
   /// 1.2M); 0: never. A node's share of the sum of volumes follows its fraction of the mesh, not
   /// its triangle count (the pca trees of bunny00 and of bunny00 subdivided twice, 16x the
   /// triangles, hold the same shares in nodes of the same fraction), so on large meshes fixed
-  /// thresholds would spend the tight search on nodes that hold little volume (README, "The
-  /// default fitter").
+  /// thresholds would spend the tight search on nodes that hold little volume
+  /// (docs/design-notes/auto-fitter.md, "Thresholds that grow with the mesh").
   std::uint32_t scale_above = 32768;
   /// Below the root, start each node's search from its parent's box: a child is a part of its
   /// parent, cut across the parent's box, and the parent's axes are most often close to its own
@@ -58,7 +58,8 @@ struct AutoFit {
   /// parent's axes where the Bopt box is larger, instead of the PCA box (so they need no moments).
   /// Measured on the ten corpus meshes of the build bench, together with the thresholds above:
   /// >= 0.9 of approx's gain on all ten, with 15-30% fewer instructions than independent searches
-  /// at tight_min_triangles 2048 and scale_above 131,072 (README, "The default fitter").
+  /// at tight_min_triangles 2048 and scale_above 131,072
+  /// (docs/design-notes/auto-fitter.md, "Search from the parent's box").
   /// false: each node searches on its own.
   bool search_from_parent = true;
   /// Field-wise equality.

@@ -29,7 +29,7 @@ enum class FitMethod {
 /// Which fitter, and the parameters of the hull-based ones.
 struct FitOptions {
   FitMethod method = FitMethod::approx;  ///< The fitter.
-  int grid = 2;                    ///< k: primitive grid directions with L-inf norm <= k (see README)
+  int grid = 2;                    ///< k: primitive grid directions with L-inf norm <= k (docs/algorithms.md, "approx")
   std::optional<double> epsilon;   ///< when set, chooses k from epsilon (see grid_for_epsilon)
   bool improve = true;             ///< local improvement step (the "(Improved)" rows)
 };
@@ -43,7 +43,8 @@ struct FitOptions {
 [[nodiscard]] std::span<const FitMethod> all_fit_methods();
 [[nodiscard]] std::span<const std::string_view> fit_method_names();  ///< same order
 
-/// The grid radius k used for a requested epsilon (documented in fit.cpp and the README).
+/// The grid radius k used for a requested epsilon (documented in fit.cpp and in docs/algorithms.md,
+/// "approx").
 [[nodiscard]] int grid_for_epsilon(double epsilon);
 
 /// Reusable scratch memory for the fitters (hull, projections, 2D hull, ...). Fitting many

@@ -17,8 +17,8 @@ struct RefitOptions {
   /// boxes are the ones fit_triangles gives (up to rounding; with tied eigenvalues the previous
   /// frame's directions are kept).
   /// `aabb` merges the children's bounds (the builder's boxes bit for bit). Every other fitter
-  /// (and `auto`) fits each node from its corners as build() does. Why pca: README, "Refit
-  /// (deforming meshes)".
+  /// (and `auto`) fits each node from its corners as build() does. Why pca:
+  /// docs/design-notes/refit.md, "pca by default".
   Fitter fitter = FitMethod::pca;
   FitOptions fit;        ///< grid / epsilon / improve of the hull-based fitters
   unsigned threads = 0;  ///< 0: std::thread::hardware_concurrency(); the same tree for any count

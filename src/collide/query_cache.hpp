@@ -130,7 +130,7 @@ enum class Source : std::uint8_t {
 // Used by the queries that visit every touching pair (all_pairs, with or without a margin). A
 // cached first_hit does not come here: it tries the last hit's leaf pair, then the cold descent
 // (collide.cpp), which tests in SIMD batches and nearest first and is faster than this one
-// (README, "Coherent sequences").
+// (docs/design-notes/collide.md, "QueryCache: front tracking, kept but narrow").
 // flatten (GCC, Clang; others ignore it): with the lifting paths the function exceeds GCC's
 // inlining budget, and without flatten the box test's 3x3 products and the entry pushes become
 // calls (all_pairs on the bench trajectory: 0.96x of cold queries' speed without it, 1.04x with).

@@ -294,7 +294,8 @@ Closest closest_disjoint(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>
 // monotone in it, so it holds iff it holds for some candidate. The edge pairs go first, in lanes
 // batch by batch, and the faces are made only when they decide nothing: on the shipped pair's
 // near poses at a margin of 1% the edge pairs decide most pairs, and this path takes a third
-// fewer instructions than the whole distance did (README, "Distance and safety margin").
+// fewer instructions than the whole distance did (docs/design-notes/distance-margin-solid.md,
+// "Margin: boxes inflated, the pair test stops at the first candidate").
 bool disjoint_within(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>& q, bool avx2, double margin) {
   TriPairInput in = pair_input(p, q, false);
   double d2[kTriCandidates];

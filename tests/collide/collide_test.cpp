@@ -150,7 +150,8 @@ TEST(Collide, MeshesFarFromTheOriginKeepTheirCulling) {
 // timed: the same 18 poses (deep overlap to apart), all_pairs, the shipped meshes. Measured:
 // auto 1.04x approx's box tests, pca 1.26x; the previous auto (pca below 32 triangles) 1.16x.
 // (first_hit counts over so few poses depend on where the first hit happens to be: the
-// benchmark measures them, README "Tree builder".)
+// benchmark measures them: docs/design-notes/auto-fitter.md,
+// "The deep-overlap first_hit gap: accepted".)
 TEST(Collide, AutoTreesNeedAboutTheBoxTestsOfApproxTrees) {
   const Mesh knot = shipped("meshes/knot1.off");
   const Mesh elephant = shipped("meshes/elephant.off");

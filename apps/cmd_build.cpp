@@ -53,10 +53,10 @@ struct BuildArgs {
 [[nodiscard]] BuildOptions parse_build_options(const BuildArgs& args, const CLI::App& cmd) {
   BuildOptions options;
   const auto fitter = parse_fitter(args.fitter);
-  if (!fitter) throw InputError("unknown fitter '" + args.fitter + "'");
+  if (!fitter) throw InputError("--fitter: unknown fitter '" + args.fitter + "' (" + one_of(fitter_names()) + ")");
   options.fitter = *fitter;
   const auto split = parse_split_method(args.split);
-  if (!split) throw InputError("unknown split '" + args.split + "' (" + one_of(split_method_names()) + ")");
+  if (!split) throw InputError("--split: unknown split '" + args.split + "' (" + one_of(split_method_names()) + ")");
   options.split = *split;
   if (cmd.count("--grid")) options.fit.grid = args.grid;
   if (cmd.count("--epsilon")) options.fit.epsilon = args.epsilon;
@@ -78,7 +78,7 @@ struct BuildRun {
   const Tree& tree = run.result.tree;
   if (args.validate) {
     const TreeCheck check = validate(tree, mesh);
-    if (!check.ok()) throw std::runtime_error("invalid tree: " + check.errors[0]);
+    if (!check.ok()) throw std::runtime_error(args.mesh + ": invalid tree: " + check.errors[0]);
   }
   if (!args.output.empty()) save_tree(tree, args.output);
   if (!args.boxes_obj.empty()) {
@@ -122,18 +122,21 @@ void add_build(CLI::App& app) {
   cmd->add_option("mesh", args->mesh, "mesh file (OBJ, OFF, STL, PLY, ...)")->required();
   cmd->add_option("--fitter", args->fitter, choices(fitter_names()))->capture_default_str();
   auto* grid = cmd->add_option("--grid", args->grid, "grid radius k of approx (directions with L-inf norm <= k)")
-                   ->check(CLI::PositiveNumber);
+                   ->check(positive_number());
   cmd->add_option("--epsilon", args->epsilon, "approximation factor of approx (chooses k)")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->excludes(grid);
   cmd->add_option("--split", args->split, choices(split_method_names()))->capture_default_str();
-  cmd->add_option("--leaf-size", args->leaf_size, "max triangles per leaf")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--leaf-size", args->leaf_size, "max triangles per leaf")
+      ->check(positive_number())
+      ->capture_default_str();
   cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")->capture_default_str();
   cmd->add_option("-o,--output", args->output, "save the tree to this file");
   auto* boxes = cmd->add_option("--boxes-obj", args->boxes_obj, "write the boxes of --level as an OBJ wireframe");
   cmd->add_option("--level", args->level, "tree level for --boxes-obj (root: 0)")->needs(boxes)->capture_default_str();
   cmd->add_flag("--validate", args->validate, "check the tree against the mesh (containment, partition)");
   cmd->add_flag("--json", args->json, "print JSON instead of text");
+  cmd->footer("Example:\n  tightbvh build meshes/elephant.off --fitter approx --validate -o elephant.tree");
   cmd->callback([args, cmd] {
     const BuildOptions options = parse_build_options(*args, *cmd);
     print_build(*args, options, run_build(*args, options));
@@ -167,6 +170,8 @@ void add_inspect(CLI::App& app) {
   cmd->add_option("tree", args->tree, "tree file written by `tightbvh build -o`")->required();
   cmd->add_option("--mesh", args->mesh, "also validate the tree against this mesh");
   cmd->add_flag("--json", args->json, "print JSON instead of text");
+  cmd->footer("Example (elephant.tree as written by the example of `tightbvh build --help`):\n"
+              "  tightbvh inspect elephant.tree --mesh meshes/elephant.off");
   cmd->callback([args] {
     const Tree tree = load_tree(args->tree);
     const TreeStats s = tree_stats(tree);

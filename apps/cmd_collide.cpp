@@ -4,6 +4,7 @@
 // row-major). --view writes DIR/index.html: both posed meshes with the touching triangles
 // highlighted, and the node pairs the descent visited (collide_trace, run once more for the page).
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -32,12 +33,18 @@ Pose parse_pose_option(const std::string& text) {
   }
 }
 
+void require_non_negative(const CLI::Option& option, double value, bool infinity_allowed) {
+  if (value >= 0.0 && (std::isfinite(value) || infinity_allowed)) return;
+  throw InputError(option.get_name() + " must be " + (infinity_allowed ? ">= 0 (or inf)" : "finite and >= 0") +
+                   ", got " + (option.count() > 0 ? option.as<std::string>() : std::to_string(value)));
+}
+
 MeshPair load_pair(const std::string& mesh_a, const std::string& mesh_b, const std::string& pose,
                    const std::string& fitter, std::uint32_t leaf_size, unsigned threads) {
   MeshPair pair;
   pair.pose_b = parse_pose_option(pose);
   const auto parsed = parse_fitter(fitter);
-  if (!parsed) throw InputError("unknown fitter '" + fitter + "'");
+  if (!parsed) throw InputError("--fitter: unknown fitter '" + fitter + "' (" + one_of(fitter_names()) + ")");
   pair.fitter = *parsed;
   pair.a = load_mesh(mesh_a);
   pair.b = load_mesh(mesh_b);
@@ -150,19 +157,23 @@ void add_collide_command(CLI::App& app) {
   cmd->add_option("--pose", args->pose, "B's pose in A's frame: \"r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz\"")
       ->capture_default_str();
   cmd->add_flag("--all-pairs", args->all_pairs, "report every touching triangle pair (default: first hit)");
-  cmd->add_option("--margin", args->margin, "report triangle pairs at distance <= D instead of touching ones")
+  auto* margin = cmd->add_option("--margin", args->margin,
+                                 "report triangle pairs at distance <= D instead of touching ones")
       ->capture_default_str();
   cmd->add_flag("--solid", args->solid,
                 "closed meshes are solids: also a hit when one is inside the other (error for an open mesh)");
   cmd->add_option("--fitter", args->fitter, choices(fitter_names()))->capture_default_str();
   cmd->add_option("--leaf-size", args->leaf_size, "max triangles per leaf")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "build threads (0: all cores)")->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON instead of text");
   cmd->add_option("--view", args->view,
                   "write DIR/index.html: the posed meshes, touching triangles highlighted, the descent's node pairs");
-  cmd->callback([args] {
+  cmd->footer("Example:\n  tightbvh collide meshes/elephant.off meshes/knot1.off --pose \"1 0 0 0 1 0 0 0 1 0.2 0 0\" "
+              "--all-pairs");
+  cmd->callback([args, margin] {
+    require_non_negative(*margin, args->margin);
     const Run run = run_collide(*args);
     if (!args->view.empty()) write_view(*args, run);
     print_collide(*args, run);

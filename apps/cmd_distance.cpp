@@ -115,24 +115,29 @@ void add_distance_command(CLI::App& app) {
   cmd->add_option("mesh_b", args->mesh_b, "mesh B")->required();
   cmd->add_option("--pose", args->pose, "B's pose in A's frame: \"r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz\"")
       ->capture_default_str();
-  cmd->add_option("--abs-error", args->options.absolute_error, "stop once within this absolute error")
+  auto* abs_error = cmd->add_option("--abs-error", args->options.absolute_error, "stop once within this absolute error")
       ->capture_default_str();
-  cmd->add_option("--rel-error", args->options.relative_error, "stop once within this relative error")
+  auto* rel_error = cmd->add_option("--rel-error", args->options.relative_error, "stop once within this relative error")
       ->capture_default_str();
-  cmd->add_option("--upper-bound", args->options.upper_bound, "only report distances below this")
+  auto* upper_bound = cmd->add_option("--upper-bound", args->options.upper_bound, "only report distances below this")
       ->capture_default_str();
   cmd->add_flag("--solid", args->options.solid,
                 "closed meshes are solids: 0 when one is inside the other (error for an open mesh)");
   cmd->add_option("--fitter", args->fitter, choices(fitter_names()))->capture_default_str();
   cmd->add_option("--leaf-size", args->leaf_size, "max triangles per leaf")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "build threads (0: all cores)")->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON instead of text");
   cmd->add_option("--view", args->view,
                   "write DIR/index.html: the posed meshes, the closest triangles and the segment between the closest "
                   "points");
-  cmd->callback([args] {
+  cmd->footer(
+      "Example:\n  tightbvh distance meshes/elephant.off meshes/knot1.off --pose \"1 0 0 0 1 0 0 0 1 1.5 0 0\"");
+  cmd->callback([args, abs_error, rel_error, upper_bound] {
+    require_non_negative(*abs_error, args->options.absolute_error);
+    require_non_negative(*rel_error, args->options.relative_error);
+    require_non_negative(*upper_bound, args->options.upper_bound, true);
     const Run run = run_distance(*args);
     if (!args->view.empty()) write_view(*args, run);
     print_distance(*args, run);

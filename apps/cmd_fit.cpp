@@ -101,7 +101,7 @@ std::vector<std::string_view> method_names() {
   const std::vector<std::string_view> names = method_names();
   if (name == "all") return {names.begin(), names.end() - 1};
   if (std::find(names.begin(), names.end() - 1, name) != names.end() - 1) return {name};
-  throw InputError("unknown fit method '" + name + "' (expected " + one_of(names) + ")");
+  throw InputError("--method: unknown fit method '" + name + "' (expected " + one_of(names) + ")");
 }
 
 template <class Fit>
@@ -186,6 +186,7 @@ void add_fit_command(CLI::App& app) {
                               "approx: target (1+e) approximation (chooses k); approx-snap: snapping grid");
   grid->excludes(eps);
   cmd->add_flag("--json", args->json, "print JSON instead of text");
+  cmd->footer("Example:\n  tightbvh fit meshes/knot1.off --method approx --epsilon 0.05");
   cmd->callback([args, eps] {
     // Checked here, before any output; CLI11's PositiveNumber would print DBL_MAX in full.
     if (eps->count() > 0 && !(args->epsilon > 0.0 && std::isfinite(args->epsilon)))

@@ -18,6 +18,7 @@ void add_info_command(CLI::App& app) {
   auto args = std::make_shared<Args>();
   cmd->add_option("meshes", args->meshes, "mesh files (OBJ, OFF, STL, PLY, ...)")->required();
   cmd->add_flag("--json", args->json, "print JSON instead of text");
+  cmd->footer("Example:\n  tightbvh info meshes/elephant.off meshes/knot1.off");
   cmd->callback([args] {
     nlohmann::json out = nlohmann::json::array();
     for (const std::string& path : args->meshes) {

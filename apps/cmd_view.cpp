@@ -31,7 +31,7 @@ struct ViewArgs {
   std::vector<Fitter> fitters;
   for (const std::string& name : names) {
     const auto fitter = parse_fitter(name);
-    if (!fitter) throw InputError("unknown fitter '" + name + "' (" + one_of(fitter_names()) + ")");
+    if (!fitter) throw InputError("--fitter: unknown fitter '" + name + "' (" + one_of(fitter_names()) + ")");
     fitters.push_back(*fitter);
   }
   return fitters;
@@ -75,10 +75,11 @@ void add_view_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--level", args->level, "tree level shown first (root: 0)")->capture_default_str();
   cmd->add_option("--leaf-size", args->leaf_size, "max triangles per leaf")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "build threads (0: all cores)")->capture_default_str();
   cmd->add_option("-o,--output", args->output, "directory for index.html")->capture_default_str();
+  cmd->footer("Example:\n  tightbvh view meshes/knot1.off --fitter pca --fitter approx --level 4 -o knot1-view");
   cmd->callback([args, cmd] {
     args->level_given = cmd->count("--level") > 0;
     run_view(*args);

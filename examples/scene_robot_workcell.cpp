@@ -7,6 +7,7 @@
 #include <tightbvh/scene.hpp>
 
 #include <Eigen/Geometry>
+#include <cstddef>
 #include <cstdio>
 #include <exception>
 #include <optional>
@@ -49,6 +50,7 @@ int main() try {
   for (int i = 0; i < 4; ++i) links.push_back(arm.add(link, Pose{}, "link" + std::to_string(i)));
   for (int i = 0; i + 1 < 4; ++i) arm.allow(links[i], links[i + 1]);
 
+  bool agree = true;  // each answer checked against the pair queries on every object pair
   for (const double bend : {0.3, 1.2, 2.6}) {
     // Forward kinematics: each link turns by `bend` about z at the end of the previous one.
     Pose joint;
@@ -75,7 +77,19 @@ int main() try {
       std::printf(", clearance %.3f (%s to %s)", nearest->result.distance, arm.object(nearest->a).name.c_str(),
                   cell.object(nearest->b).name.c_str());
     std::printf("\n");
+
+    std::size_t expected = 0;
+    for (const ObjectId a : arm.ids())
+      for (const ObjectId b : cell.ids())
+        expected += collide(*arm.object(a).model, arm.object(a).pose, *cell.object(b).model, cell.object(b).pose).hit;
+    for (const ObjectId a : arm.ids())
+      for (const ObjectId b : arm.ids())
+        if (a < b && !arm.allowed(a, b))
+          expected += collide(*arm.object(a).model, arm.object(a).pose, *arm.object(b).model, arm.object(b).pose).hit;
+    agree = agree && expected == self.size() + cell_hits.size();
   }
+  if (!agree) return 1;
+  std::printf("the scene answers equal the pair queries on every object pair\n");
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "scene_robot_workcell: %s\n", e.what());

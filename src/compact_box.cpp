@@ -12,7 +12,7 @@
 namespace tightbvh {
 namespace {
 
-// The float nearest to x, really rounded. GCC 12's SLP vectorizer (-O2 and above) was seen to
+// The float nearest to x, really rounded. GCC 12's SLP vectorizer (-O2 and above) can
 // fold a double -> float -> double round trip into the identity; the extents would then be
 // measured in a frame other than the stored one (up to 8e-9 short on knot1). An empty asm that
 // may change the float hides its value from the optimizer (a volatile elsewhere: a memory round
@@ -30,8 +30,8 @@ namespace {
 
 // The smallest float >= x (x finite, >= 0). The float after a non-negative f is the one whose
 // bits are one more (also from +0 to the smallest subnormal, and from the largest float to +inf).
-// Branch-free: whether f rounded down is a coin toss, and a mispredicted branch per extent was
-// a tenth of a refit.
+// Branch-free: whether f rounded down is a coin toss, and a mispredicted branch per extent costs
+// about a tenth of a refit.
 [[nodiscard]] float round_up(double x) {
   const float f = to_float(x);
   const std::uint32_t below = static_cast<double>(f) < x ? 1u : 0u;

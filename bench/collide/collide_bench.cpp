@@ -6,10 +6,10 @@
 //
 // Counters: box_tests and tri_tests are per query (averaged over the scenario's poses).
 //
-// The cost model (README, "Where the time of a query goes"): BM_ReplayBoxTests and
-// BM_ReplayTriangleTests replay, without the descent around them, exactly the box tests and the
-// triangle tests that collide() made on the auto trees of each scenario (recorded with
-// collide_trace), so that (box tests x their cost + triangle tests x theirs) can be held
+// The cost model (docs/design-notes/collide.md, "Where a query's time goes (the cost model)"):
+// BM_ReplayBoxTests and BM_ReplayTriangleTests replay, without the descent around them, exactly the
+// box tests and the triangle tests that collide() made on the auto trees of each scenario (recorded
+// with collide_trace), so that (box tests x their cost + triangle tests x theirs) can be held
 // against BM_Traversal's measured query time: bench/collide/cost_model.py prints the table.
 #include <benchmark/benchmark.h>
 

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""The cost model of a collide() query (README, "Where the time of a query goes").
+"""The cost model of a collide() query
+(docs/design-notes/collide.md, "Where a query's time goes (the cost model)").
 
 Reads the JSON of
   build/bin/tightbvh-collide-bench --benchmark_filter='BM_Traversal/fitter:6/.*/descend:0|BM_Replay' \

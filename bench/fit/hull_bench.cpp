@@ -1,4 +1,4 @@
-// tightbvh-hull-bench MESH... [--reps R]: our Quickhull (convex_hull) against the former
+// tightbvh-hull-bench MESH... [--reps R]: our Quickhull (convex_hull) against the
 // qhull-based hull (bench/oracles/qhull_oracle.cpp: probe, prefilter, 'Qt Q8') on the vertices of
 // each mesh: median thread CPU time of R calls each, hull vertex counts, and how many vertices
 // only one of the two reports.

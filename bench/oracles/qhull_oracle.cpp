@@ -1,5 +1,5 @@
-// The former qhull-based 3D hull (see qhull_oracle.hpp), moved here unchanged in what it
-// computes: probe, Akl-Toussaint prefilter, qhull 'Qt Q8' (then 'QJ'), conversion to our graph.
+// A qhull-based 3D hull (see qhull_oracle.hpp): probe, Akl-Toussaint prefilter, qhull 'Qt Q8'
+// (then 'QJ'), conversion to our graph.
 #include "qhull_oracle.hpp"
 
 #include "tightbvh/aabb.hpp"
@@ -205,7 +205,7 @@ bool qhull_hull(std::span<const Vec3> points, ConvexHull3& out, QhullWorkspace& 
   out.clear();
   if (points.empty()) return false;
   State& s = *workspace.state_;
-  // The former dimension probe (solid sets only reach qhull).
+  // The dimension probe (solid sets only reach qhull).
   const Aabb bounds = bounds_of(points);
   const Vec3 origin = bounds.center();
   int axis = 0;

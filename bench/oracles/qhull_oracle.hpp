@@ -1,7 +1,7 @@
 #pragma once
-// The former 3D hull of the library, through qhull (kept as a test and benchmark oracle only):
-// the same dimension probe, Akl-Toussaint prefilter and qhull options ('Qt Q8', then 'QJ') as
-// before our Quickhull replaced it. Only for solid sets: returns false (and an empty `out`)
+// A 3D hull through qhull, as a test and benchmark oracle for our Quickhull (never part of the
+// library): a dimension probe, an Akl-Toussaint prefilter and qhull options 'Qt Q8', then 'QJ'.
+// Only for solid sets: returns false (and an empty `out`)
 // when the probe finds the set flat or qhull fails.
 #include <memory>
 #include <span>

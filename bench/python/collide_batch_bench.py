@@ -3,12 +3,13 @@ tightbvh.collide_batch (Python) and through tightbvh-batch-bench (C++, collide_b
 alternating, repeated; prints the medians and the ratio Python / C++.
 
     PYTHONPATH=build/python /usr/bin/python3 bench/python/collide_batch_bench.py \\
-        [--exe build/bin/tightbvh-batch-bench] [--poses 1000] [--reps 5] [--rounds 3] [--threads 1]
+        [--exe build/bin/tightbvh-batch-bench] [--poses 1000] [--reps 5] [--rounds 3] [--threads 1] [--json FILE]
 
 With --threads 1 (default) both sides run on the calling thread and the ratio is of thread CPU
 time, which other processes on a shared machine do not inflate; with more threads it is of
 wall-clock time. The Python time includes everything a caller pays: converting and checking the
-(N, 4, 4) pose array, the call, and building the result arrays."""
+(N, 4, 4) pose array, the call, and building the result arrays. --json FILE also writes the
+settings and the rows (medians, ratio, and every timed batch of both sides) to FILE."""
 import argparse
 import json
 import pathlib
@@ -73,6 +74,7 @@ def main():
     parser.add_argument("--rounds", type=int, default=3, help="C++ then Python, this many times")
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--json", help="also write the results to this JSON file")
     args = parser.parse_args()
 
     a, b = tightbvh.load_mesh(args.mesh_a), tightbvh.load_mesh(args.mesh_b)
@@ -102,9 +104,19 @@ def main():
             mode = "all_pairs" if all_pairs else "first_hit"
             ratio = statistics.median(py) / statistics.median(cpp)
             rows.append({"mode": mode, "hits": py_hits, "pairs": py_pairs, "cpp_seconds": statistics.median(cpp),
-                         "python_seconds": statistics.median(py), "ratio": ratio})
+                         "python_seconds": statistics.median(py), "ratio": ratio,
+                         "cpp_samples": cpp, "python_samples": py})
             print(f"{mode:<10} {py_hits:>5} {py_pairs:>8} {statistics.median(cpp):10.5f} "
                   f"{statistics.median(py):10.5f} {ratio:10.3f}")
+    if args.json:
+        settings = {k: getattr(args, k) for k in ("mesh_a", "mesh_b", "fitter", "poses", "reps", "rounds", "threads",
+                                                  "seed")}
+        settings["mesh_a"] = pathlib.Path(args.mesh_a).name
+        settings["mesh_b"] = pathlib.Path(args.mesh_b).name
+        settings["clock"] = "thread CPU" if args.threads == 1 else "wall-clock"
+        with open(args.json, "w") as out:
+            json.dump({**settings, "rows": rows}, out, indent=2)
+            out.write("\n")
     return rows
 
 

@@ -202,7 +202,7 @@ struct EngineInfo {
   std::string name;
   bool first_hit = true;   // supports first_hit natively (early exit)
   bool all_pairs = true;   // reports triangle pairs
-  std::string note;        // what the engine cannot do, shown in the README/report
+  std::string note;        // what the engine cannot do, shown by --list-engines and in the run's notes
   std::function<std::unique_ptr<Prepared>(const Input&)> build;
   bool distance = false;   // answers minimum-distance queries
   bool margin = false;     // reports the pairs within a safety margin

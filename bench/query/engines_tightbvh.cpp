@@ -137,7 +137,7 @@ EngineInfo exported(const std::string& name, FitMethod method) {
 }
 
 // Our approx tree exported into FCL's BVHModel<RSS> or <OBBRSS> (RSS fitted to our boxes),
-// queried by FCL's own fcl::distance (issue 15, item 6). RSS models answer distances only.
+// queried by FCL's own fcl::distance. RSS models answer distances only.
 template <class BV>
 EngineInfo exported_distance(const std::string& name, bool collide) {
   return {name, collide, collide, collide ? "" : "distance mode only",
@@ -166,8 +166,8 @@ std::vector<EngineInfo> tightbvh_engines() {
           ours("tightbvh-pca", FitMethod::pca),
           ours("tightbvh-approx", FitMethod::approx),
           ours("tightbvh-auto", AutoFit{}),
-          // auto as it was before it searched from the parent's box (each node on its own, approx
-          // from 2048 triangles, thresholds growing above 131,072): for same-run comparisons.
+          // auto with independent node searches (each node on its own, approx from 2048 triangles,
+          // thresholds growing above 131,072): the baseline of search_from_parent in the same run.
           ours("tightbvh-auto-unseeded",
                AutoFit{.tight_min_triangles = 2048, .scale_above = 131072, .search_from_parent = false}),
           cached("tightbvh-approx-qc", FitMethod::approx),

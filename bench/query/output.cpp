@@ -62,7 +62,7 @@ namespace {
   return {};
 }
 
-// Issue #16 (coherent sequences): each -qc engine's queries/s over its cold twin's, same poses.
+// Coherent sequences: each -qc engine's queries/s over its cold twin's, same poses.
 void print_cache_speedup(std::ostream& out, const std::vector<Row>& rows) {
   bool header = false;
   char line[256];
@@ -108,7 +108,7 @@ void print_verdict(std::ostream& out, const std::vector<Row>& rows) {
       header = true;
     }
     const double ratio = ours->qps() / fcl->qps();
-    const double target = key.second == Mode::distance ? 5.0 : 2.0;  // issue #15: distance >= 5x
+    const double target = key.second == Mode::distance ? 5.0 : 2.0;  // targets: distance >= 5x, the rest >= 2x
     char verdict[32];
     std::snprintf(verdict, sizeof verdict, "target %gx %s", target, ratio >= target ? "met" : "NOT met");
     std::snprintf(line, sizeof line, "  %-10s %-9s %-16s %10.1f q/s vs %-10s %10.1f q/s = %5.2fx  %s\n",
@@ -124,7 +124,7 @@ void print_verdict(std::ostream& out, const std::vector<Row>& rows) {
                   to_string(key.second), ratio, ratio > 1.0 ? "faster: target met" : "NOT faster: target not met");
     out << line;
   }
-  // Issue #15: margin (1% of the scale) costs at most 2x the same engine's all_pairs at margin 0.
+  // Target: margin (1% of the scale) costs at most 2x the same engine's all_pairs at margin 0.
   bool margin_header = false;
   for (const Row& m : rows) {
     if (m.mode != Mode::margin || m.engine == "reference" || m.qps() <= 0) continue;
@@ -139,7 +139,7 @@ void print_verdict(std::ostream& out, const std::vector<Row>& rows) {
       out << line;
     }
   }
-  // Issue #15: solid first_hit costs at most 1.2x the same engine's plain first_hit where the
+  // Target: solid first_hit costs at most 1.2x the same engine's plain first_hit where the
   // surfaces touch (on poses without contact it also casts the containment rays).
   bool solid_header = false;
   for (const Row& s : rows) {

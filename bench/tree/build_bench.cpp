@@ -244,7 +244,7 @@ int compare(const std::vector<std::filesystem::path>& meshes, int repeats, unsig
       return tight && rounds.results[i].ok ? fmt(rounds.ratio(i, 0), "%.3f") : std::string("n/a");
     };
     const auto secs = [](const OurResult& a) { return a.ok ? fmt(a.seconds, "%.4f") : std::string("n/a"); };
-    // The measure of tightness: gain(f) = 1 - sum vol(f tree) / sum vol(pca tree).
+    // The measure of tightness: gain(f) = 1 - sum vol(f tree) / sum vol(pca tree).
     const std::string gain_ratio =
         approx.ok && automatic.ok
             ? fmt((1 - automatic.stats.sum_volume / pca.stats.sum_volume) / (1 - approx.stats.sum_volume / pca.stats.sum_volume),
@@ -271,7 +271,11 @@ int compare(const std::vector<std::filesystem::path>& meshes, int repeats, unsig
                    {"pca", ours(pca)},
                    {"pca_all_threads", ours(pca_all)},
                    {"approx", ours(approx)},
-                   {"auto", ours(automatic)}});
+                   {"auto", ours(automatic)},
+                   {"repeats", repeats},
+                   {"threads", threads},
+                   {"approx_over_pca_time", tight && approx.ok ? nlohmann::json(rounds.ratio(1, 0)) : nlohmann::json(nullptr)},
+                   {"auto_over_pca_time", tight && automatic.ok ? nlohmann::json(rounds.ratio(2, 0)) : nlohmann::json(nullptr)}});
   }
   if (!json_out.empty()) std::ofstream(json_out) << all.dump(2) << '\n';
   return 0;

@@ -1,13 +1,14 @@
 // tightbvh-refit-bench: refit of deforming meshes against FCL's refit, and what refit vs rebuild
 // does to query speed.
 //
-//   tightbvh-refit-bench [MESH...] [--frames F] [--repeats R] [--poses N] [--no-queries]
+//   tightbvh-refit-bench [MESH...] [--frames F] [--repeats R] [--poses N] [--no-queries] [--json FILE]
 //       per mesh and deformation (a travelling sine wave and a bend, amplitude growing over F
 //       frames): median time per refit of ours (pca fast path, threads 1 and 2) and of FCL's
 //       BVHModel<OBB> / <OBBRSS> (beginUpdateModel, updateVertex per vertex, endUpdateModel with
 //       bottomup true and false), and the sums of node volumes at the last frame. Then, at the
 //       last frame, first_hit and all_pairs queries/s (one thread) of the deformed mesh against
-//       the undeformed one, "near" poses, on (a) fresh builds and (b) refitted trees.
+//       the undeformed one, "near" poses, on (a) fresh builds and (b) refitted trees. --json:
+//       both tables' numbers (seconds, not ms) in FILE as well.
 //   tightbvh-refit-bench --fitters [MESH...] [--frames F] [--repeats R]
 //       time and sum of volumes of refit with pca, pca-vertex, aabb and auto at the last frame,
 //       against rebuilding with pca and auto (the choice of the default refit fitter).
@@ -21,6 +22,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -221,7 +224,7 @@ QueryRow query_row(std::string name, double seconds, const Tree& a, const Mesh& 
   return row;
 }
 
-void queries(const std::string& mesh_name, const Mesh& rest, Kind kind, int frames, int count) {
+nlohmann::json queries(const std::string& mesh_name, const Mesh& rest, Kind kind, int frames, int count) {
   const Mesh mesh = deformed(rest, kind, frames - 1, frames);
   const Tree b = build(rest, {.threads = 1});  // the other object: the undeformed mesh, default tree
   const Tree fresh_auto = build(mesh, {.threads = 1});
@@ -243,6 +246,19 @@ void queries(const std::string& mesh_name, const Mesh& rest, Kind kind, int fram
                 r.tree.c_str(), 1e3 * r.seconds, r.sum_volume, r.first_hit_qps, r.first_hit_boxes, r.all_pairs_qps,
                 r.all_pairs_boxes);
   std::fflush(stdout);
+  nlohmann::json out = nlohmann::json::array();
+  for (const QueryRow& r : rows)
+    out.push_back({{"mesh", mesh_name},
+                   {"deformation", name_of(kind)},
+                   {"tree", r.tree},
+                   {"poses", poses.size()},
+                   {"seconds", r.seconds},
+                   {"sum_volume", r.sum_volume},
+                   {"first_hit_qps", r.first_hit_qps},
+                   {"first_hit_box_tests", r.first_hit_boxes},
+                   {"all_pairs_qps", r.all_pairs_qps},
+                   {"all_pairs_box_tests", r.all_pairs_boxes}});
+  return out;
 }
 
 // The refit fitter: CPU time and sum of volumes of refit with each cheap-to-tight fitter, at the
@@ -280,6 +296,7 @@ std::vector<std::filesystem::path> default_meshes() {
 struct Options {
   std::vector<std::filesystem::path> meshes;
   int frames = 20, repeats = 3, poses = 200;
+  std::string json;  // --json FILE
   bool queries = true;
   bool fitters = false;  // only the table of refit fitters
 };
@@ -288,6 +305,11 @@ Options parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    if (a == "--json") {
+      if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
+      o.json = argv[++i];
+      continue;
+    }
     const auto next = [&]() -> int {
       if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
       const int value = std::stoi(argv[++i]);
@@ -339,6 +361,16 @@ int main(int argc, char** argv) try {
       "| vol FCL OBB down / ours | vol rebuild pca / ours | vol rebuild auto / ours "
       "| bad FCL OBB up / down / OBBRSS up | ours valid |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  nlohmann::json refits = nlohmann::json::array(), after = nlohmann::json::array();
+  const auto write_json = [&] {
+    if (o.json.empty()) return;
+    std::ofstream out(o.json);
+    out << nlohmann::json{{"frames", o.frames}, {"repeats", o.repeats}, {"poses", o.queries ? o.poses : 0},
+                          {"refit", refits}, {"queries", after}}
+               .dump(2)
+        << '\n';
+    if (!out) throw std::runtime_error(o.json + ": write failed");
+  };
   for (const auto& [name, rest] : meshes)
     for (const Kind kind : {Kind::sine, Kind::bend}) {
       Tree tree = build(rest, {.threads = 1});
@@ -354,8 +386,30 @@ int main(int argc, char** argv) try {
           median(t.obb_up) / ours, l.ours, l.obb_up / l.ours, l.obb_down / l.ours, l.fresh_pca / l.ours,
           l.fresh_auto / l.ours, l.obb_up_bad, l.obb_down_bad, l.obbrss_up_bad, l.ours_valid ? "yes" : "NO");
       std::fflush(stdout);
+      refits.push_back({{"mesh", name},
+                        {"triangles", rest.triangles.size()},
+                        {"deformation", name_of(kind)},
+                        {"ours_t1_seconds", ours},
+                        {"ours_t2_wall_seconds", median(t.ours_t2)},
+                        {"fcl_obb_up_seconds", median(t.obb_up)},
+                        {"fcl_obb_down_seconds", median(t.obb_down)},
+                        {"fcl_obbrss_up_seconds", median(t.obbrss_up)},
+                        {"fcl_obbrss_down_seconds", median(t.obbrss_down)},
+                        {"volume_ours", l.ours},
+                        {"volume_fcl_obb_up", l.obb_up},
+                        {"volume_fcl_obb_down", l.obb_down},
+                        {"volume_fcl_obbrss_up", l.obbrss_up},
+                        {"volume_rebuild_pca", l.fresh_pca},
+                        {"volume_rebuild_auto", l.fresh_auto},
+                        {"bad_fcl_obb_up", l.obb_up_bad},
+                        {"bad_fcl_obb_down", l.obb_down_bad},
+                        {"bad_fcl_obbrss_up", l.obbrss_up_bad},
+                        {"ours_valid", l.ours_valid}});
     }
-  if (!o.queries) return 0;
+  if (!o.queries) {
+    write_json();
+    return 0;
+  }
   std::printf(
       "\nqueries at the last frame: deformed mesh (tree below) vs the "
       "undeformed mesh (default tree), %d near "
@@ -366,7 +420,9 @@ int main(int argc, char** argv) try {
       "| first_hit q/s | box tests | all_pairs "
       "q/s | box tests |\n|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& [name, rest] : meshes)
-    for (const Kind kind : {Kind::sine, Kind::bend}) queries(name, rest, kind, o.frames, o.poses);
+    for (const Kind kind : {Kind::sine, Kind::bend})
+      for (auto& row : queries(name, rest, kind, o.frames, o.poses)) after.push_back(std::move(row));
+  write_json();
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "tightbvh-refit-bench: error: %s\n", e.what());

@@ -1,15 +1,16 @@
 #pragma once
-// A lower bound of the Euclidean distance between two oriented boxes, for the distance queries
-// (distance.hpp): it never exceeds the true distance between the boxes (so never the distance
-// between anything inside them), and is 0 when they overlap.
-//
-// Three bounds from the separating-axis view (Gottschalk et al. 1996), the largest is returned:
-//  - B's axis-aligned bounding box in A's box frame against A: the per-axis gaps combined
-//    Euclidean-ly (sqrt of the sum of squares), since B lies inside that box;
-//  - the same with the roles swapped (A's bounding box in B's frame);
-//  - the 9 edge-edge axes A_i x B_j: the projected gap divided by the axis' length.
-// The projected radii use |R| + kSatEpsilon as obb_overlap() does, which only enlarges them, so
-// every gap is an under-estimate; the caller subtracts its own rounding allowance.
+/// @file
+/// A lower bound of the Euclidean distance between two oriented boxes, for the distance queries
+/// (distance.hpp): it never exceeds the true distance between the boxes (so never the distance
+/// between anything inside them), and is 0 when they overlap.
+///
+/// Three bounds from the separating-axis view (Gottschalk et al. 1996), the largest is returned:
+///  - B's axis-aligned bounding box in A's box frame against A: the per-axis gaps combined
+///    Euclidean-ly (sqrt of the sum of squares), since B lies inside that box;
+///  - the same with the roles swapped (A's bounding box in B's frame);
+///  - the 9 edge-edge axes A_i x B_j: the projected gap divided by the axis' length.
+/// The projected radii use |R| + kSatEpsilon as obb_overlap() does, which only enlarges them, so
+/// every gap is an under-estimate; the caller subtracts its own rounding allowance.
 #include <algorithm>
 #include <cmath>
 
@@ -18,8 +19,8 @@
 
 namespace tightbvh {
 
-// The kernel, in obb_overlap()'s frame: A axis-aligned at the origin with half extents `ea`; B
-// with axes the columns of `r`, center `t`, half extents `eb`.
+/// The kernel, in obb_overlap()'s frame: A axis-aligned at the origin with half extents `ea`; B
+/// with axes the columns of `r`, center `t`, half extents `eb`.
 [[nodiscard]] inline double obb_distance_lower_bound(const Mat3& r, const Vec3& t, const Vec3& ea, const Vec3& eb) {
   Mat3 abs_r;
   double in_a = 0.0;  // squared gap of B's bounding box (in A's frame) to A
@@ -62,7 +63,7 @@ namespace tightbvh {
   return best;
 }
 
-// Two boxes given in the same frame.
+/// Two boxes given in the same frame.
 [[nodiscard]] inline double obb_distance_lower_bound(const Obb& a, const Obb& b) {
   const Mat3 r = a.axes.transpose() * b.axes;
   const Vec3 t = a.axes.transpose() * (b.center - a.center);

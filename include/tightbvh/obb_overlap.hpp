@@ -1,25 +1,27 @@
 #pragma once
-// Separating-axis test for two oriented boxes (Gottschalk, Lin & Manocha 1996, "OBBTree: A
-// Hierarchical Structure for Rapid Interference Detection", Section 5): the boxes are disjoint
-// iff one of 15 axes separates them: the 3 face normals of each box and the 9 cross products
-// of an edge direction of one with an edge direction of the other.
-//
-// Boxes are closed: touching boxes overlap. `margin` (>= 0) is added to the projected radii, so
-// boxes are reported disjoint only if they are separated by more than `margin` along an axis;
-// queries use it to absorb rounding in the transform and the fitters' containment tolerance.
-// kSatEpsilon is added to |R| (Gottschalk et al.): when two edges are (nearly) parallel their
-// cross product is (nearly) zero and the axis test would be decided by rounding noise.
+/// @file
+/// Separating-axis test for two oriented boxes (Gottschalk, Lin & Manocha 1996, "OBBTree: A
+/// Hierarchical Structure for Rapid Interference Detection", Section 5): the boxes are disjoint
+/// iff one of 15 axes separates them: the 3 face normals of each box and the 9 cross products
+/// of an edge direction of one with an edge direction of the other.
+///
+/// Boxes are closed: touching boxes overlap. `margin` (>= 0) is added to the projected radii, so
+/// boxes are reported disjoint only if they are separated by more than `margin` along an axis;
+/// queries use it to absorb rounding in the transform and the fitters' containment tolerance.
+/// kSatEpsilon is added to |R| (Gottschalk et al.): when two edges are (nearly) parallel their
+/// cross product is (nearly) zero and the axis test would be decided by rounding noise.
 #include <cmath>
 
 #include "tightbvh/obb.hpp"
 
 namespace tightbvh {
 
+/// Added to every |R_ij| of the separating-axis tests (see the file comment).
 inline constexpr double kSatEpsilon = 1e-9;
 
-// The kernel. Box A is axis-aligned at the origin with half extents `ea`; box B has half extents
-// `eb`, its axes are the columns of `r` and its center is `t` (both in A's box frame).
-// Returns true iff the boxes overlap (no axis separates them by more than `margin`).
+/// The kernel. Box A is axis-aligned at the origin with half extents `ea`; box B has half extents
+/// `eb`, its axes are the columns of `r` and its center is `t` (both in A's box frame).
+/// Returns true iff the boxes overlap (no axis separates them by more than `margin`).
 [[nodiscard]] inline bool obb_overlap(const Mat3& r, const Vec3& t, const Vec3& ea, const Vec3& eb,
                                       double margin = 0.0) {
   Mat3 abs_r;
@@ -51,7 +53,7 @@ inline constexpr double kSatEpsilon = 1e-9;
   return true;
 }
 
-// Two boxes given in the same frame.
+/// Two boxes given in the same frame.
 [[nodiscard]] inline bool obb_overlap(const Obb& a, const Obb& b, double margin = 0.0) {
   const Mat3 r = a.axes.transpose() * b.axes;
   const Vec3 t = a.axes.transpose() * (b.center - a.center);

@@ -6,6 +6,7 @@
 
 #include "arrays.hpp"
 #include "bindings.hpp"
+#include "state.hpp"
 #include "tightbvh/collide.hpp"
 
 namespace tightbvh::python {
@@ -25,6 +26,29 @@ PyResult to_python(const QueryResult& r) {
   py::array_t<std::uint32_t> pairs({static_cast<py::ssize_t>(r.pairs.size()), py::ssize_t{2}});
   if (!r.pairs.empty()) std::memcpy(pairs.mutable_data(), r.pairs.data(), r.pairs.size() * sizeof(TrianglePair));
   return {r.hit, std::move(pairs), r.stats, r.inside};
+}
+
+// State: (hit, pairs (K, 2) uint32, box_tests, triangle_tests, inside).
+py::object result_state(const PyResult& r) {
+  return py::make_tuple(r.hit, r.pairs.attr("copy")(), r.stats.box_tests, r.stats.triangle_tests,
+                        to_string(r.inside));
+}
+
+PyResult result_from_state(const py::object& state) {
+  const py::tuple f = state_tuple(state, 5, "Result");
+  const std::string what = "Result.__setstate__";
+  PyResult r;
+  r.hit = state_bool(f[0], what + ": hit");
+  if (!py::isinstance<py::array>(f[1])) throw py::type_error(what + ": pairs must be a NumPy array");
+  const py::array pairs = py::reinterpret_borrow<py::array>(f[1]);
+  if (pairs.dtype().kind() != 'u' || pairs.dtype().itemsize() != 4)
+    throw py::type_error(what + ": pairs must be uint32, got " + py::str(pairs.dtype()).cast<std::string>());
+  if (pairs.ndim() != 2 || pairs.shape(1) != 2) throw py::value_error(what + ": pairs must have shape (K, 2)");
+  r.pairs = py::array_t<std::uint32_t>::ensure(pairs.attr("copy")());  // own, C-contiguous
+  r.stats.box_tests = state_count(f[2], what + ": box_tests");
+  r.stats.triangle_tests = state_count(f[3], what + ": triangle_tests");
+  r.inside = state_inside(f[4], what + ": inside");
+  return r;
 }
 
 QueryOptions query_options(bool all_pairs, double margin, bool solid) {
@@ -104,6 +128,8 @@ void bind_collide(py::module_& m) {
       .def_property_readonly("inside", [](const PyResult& r) { return std::string(to_string(r.inside)); },
                              "solid only: 'b_in_a' or 'a_in_b' when the hit is a containment, else 'none'")
       .def("__bool__", [](const PyResult& r) { return r.hit; })
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle(&result_state, &result_from_state))
       .def("__repr__", [](const PyResult& r) {
         return std::string("<tightbvh.Result hit=") + (r.hit ? "True" : "False") +
                " pairs=" + std::to_string(r.pairs.shape(0)) + ">";

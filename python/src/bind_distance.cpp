@@ -6,6 +6,7 @@
 
 #include "arrays.hpp"
 #include "bindings.hpp"
+#include "state.hpp"
 #include "tightbvh/distance.hpp"
 #include "tightbvh/refit.hpp"
 
@@ -32,6 +33,33 @@ py::object triangles(const DistanceResult& r) {
 py::object point(const DistanceResult& r, const Vec3& p) {
   if (r.beyond_upper_bound) return py::none();
   return to_array(p);
+}
+
+// State: (distance, beyond_upper_bound, (triangle of A, triangle of B), point_a, point_b,
+// point_a_local, point_b_local, node_pairs, triangle_pairs, inside): every field, set or not.
+py::object distance_state(const DistanceResult& r) {
+  return py::make_tuple(r.distance, r.beyond_upper_bound, py::make_tuple(r.pair.a, r.pair.b), vec3_state(r.point_a),
+                        vec3_state(r.point_b), vec3_state(r.point_a_local), vec3_state(r.point_b_local),
+                        r.stats.node_pairs, r.stats.triangle_pairs, to_string(r.inside));
+}
+
+DistanceResult distance_from_state(const py::object& state) {
+  const py::tuple f = state_tuple(state, 10, "Distance");
+  const std::string what = "Distance.__setstate__";
+  DistanceResult r;
+  r.distance = state_real(f[0], what + ": distance");
+  r.beyond_upper_bound = state_bool(f[1], what + ": beyond_upper_bound");
+  const py::tuple pair = state_tuple(f[2], 2, "Distance triangles");
+  r.pair.a = static_cast<std::uint32_t>(state_count(pair[0], what + ": triangles", 0xFFFFFFFFu));
+  r.pair.b = static_cast<std::uint32_t>(state_count(pair[1], what + ": triangles", 0xFFFFFFFFu));
+  r.point_a = state_vec3(f[3], what + ": point_a");
+  r.point_b = state_vec3(f[4], what + ": point_b");
+  r.point_a_local = state_vec3(f[5], what + ": point_a_local");
+  r.point_b_local = state_vec3(f[6], what + ": point_b_local");
+  r.stats.node_pairs = state_count(f[7], what + ": node_pairs");
+  r.stats.triangle_pairs = state_count(f[8], what + ": triangle_pairs");
+  r.inside = state_inside(f[9], what + ": inside");
+  return r;
 }
 
 DistanceResult distance_py(const PyTree& tree_a, py::handle mesh_a, py::handle pose_a, const PyTree& tree_b,
@@ -138,6 +166,8 @@ void bind_distance(py::module_& m) {
                                d["triangle_pairs"] = r.stats.triangle_pairs;
                                return d;
                              })
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle(&distance_state, &distance_from_state))
       .def("__repr__", [](const DistanceResult& r) {
         return "<tightbvh.Distance " + std::string(r.beyond_upper_bound ? ">= " : "") + std::to_string(r.distance) +
                ">";

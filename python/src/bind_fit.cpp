@@ -9,6 +9,7 @@
 
 #include "arrays.hpp"
 #include "bindings.hpp"
+#include "state.hpp"
 #include "tightbvh/ball.hpp"
 #include "tightbvh/dop.hpp"
 #include "tightbvh/ellipsoid.hpp"
@@ -171,6 +172,51 @@ py::array_t<bool> contains(const Container& c, py::handle points, double toleran
   return inside;
 }
 
+// States: tuples of Python floats (Eigen's column-major order for the axes), bit for bit.
+py::object box_state(const Obb& b) {
+  return py::make_tuple(vec3_state(b.center), mat3_state(b.axes), vec3_state(b.half_extents));
+}
+Obb box_from_state(const py::object& state) {
+  const py::tuple f = state_tuple(state, 3, "Box");
+  return {state_vec3(f[0], "Box.__setstate__: center"), state_mat3(f[1], "Box.__setstate__: axes"),
+          state_vec3(f[2], "Box.__setstate__: half_extents")};
+}
+
+py::object ball_state(const Ball& b) { return py::make_tuple(vec3_state(b.center), b.radius); }
+Ball ball_from_state(const py::object& state) {
+  const py::tuple f = state_tuple(state, 2, "Ball");
+  return {state_vec3(f[0], "Ball.__setstate__: center"), state_real(f[1], "Ball.__setstate__: radius")};
+}
+
+py::object ellipsoid_state(const Ellipsoid& e) {
+  return py::make_tuple(vec3_state(e.center), mat3_state(e.axes), vec3_state(e.radii));
+}
+Ellipsoid ellipsoid_from_state(const py::object& state) {
+  const py::tuple f = state_tuple(state, 3, "Ellipsoid");
+  Ellipsoid e;
+  e.center = state_vec3(f[0], "Ellipsoid.__setstate__: center");
+  e.axes = state_mat3(f[1], "Ellipsoid.__setstate__: axes");
+  e.radii = state_vec3(f[2], "Ellipsoid.__setstate__: radii");
+  return e;
+}
+
+// All max_axes slabs, the unused ones too, so the copy is the same object bit for bit.
+py::object dop_state(const Dop& d) {
+  return py::make_tuple(std::string(dop_name(d.kind)), reals_state(d.min.data(), Dop::max_axes),
+                        reals_state(d.max.data(), Dop::max_axes));
+}
+Dop dop_from_state(const py::object& state) {
+  const py::tuple f = state_tuple(state, 3, "Dop");
+  const std::string kind = state_string(f[0], "Dop.__setstate__: kind");
+  const auto found = std::find_if(kDops.begin(), kDops.end(), [&](const DopName& d) { return d.name == kind; });
+  if (found == kDops.end()) throw py::value_error("Dop.__setstate__: unknown kind '" + kind + "'");
+  Dop d;
+  d.kind = found->kind;
+  state_reals(f[1], d.min.data(), Dop::max_axes, "Dop.__setstate__: min");
+  state_reals(f[2], d.max.data(), Dop::max_axes, "Dop.__setstate__: max");
+  return d;
+}
+
 void bind_box(py::module_& m) {
   py::class_<Obb>(m, "Box", "An oriented box: center (3,), axes (3, 3) with the box axes as columns, half_extents (3,)")
       .def_property_readonly("center", [](const Obb& b) { return to_array(b.center); })
@@ -180,6 +226,8 @@ void bind_box(py::module_& m) {
       .def(
           "corners", [](const Obb& b) { return to_array(std::span<const Vec3>(b.corners())); },
           "(8, 3): corner i has sign (-1)^(1 + bit k of i) along axis k")
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle(&box_state, &box_from_state))
       .def("contains", &contains<Obb>, py::arg("points"), py::arg("tolerance") = 0.0,
            "bool per point: inside the closed box, with an absolute tolerance")
       .def("__repr__", [](const Obb& b) { return "<tightbvh.Box volume=" + std::to_string(b.volume()) + ">"; });
@@ -190,6 +238,8 @@ void bind_containers(py::module_& m) {
       .def_property_readonly("center", [](const Ball& b) { return to_array(b.center); })
       .def_readonly("radius", &Ball::radius)
       .def_property_readonly("volume", &Ball::volume)
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle(&ball_state, &ball_from_state))
       .def("contains", &contains<Ball>, py::arg("points"), py::arg("tolerance") = 0.0)
       .def("__repr__", [](const Ball& b) { return "<tightbvh.Ball radius=" + std::to_string(b.radius) + ">"; });
   py::class_<Ellipsoid>(m, "Ellipsoid", "An ellipsoid: center (3,), axes (3, 3) as columns, radii (3,)")
@@ -197,6 +247,8 @@ void bind_containers(py::module_& m) {
       .def_property_readonly("axes", [](const Ellipsoid& e) { return to_array(e.axes); })
       .def_property_readonly("radii", [](const Ellipsoid& e) { return to_array(e.radii); })
       .def_property_readonly("volume", &Ellipsoid::volume)
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle(&ellipsoid_state, &ellipsoid_from_state))
       .def("contains", &contains<Ellipsoid>, py::arg("points"), py::arg("tolerance") = 0.0)
       .def("__repr__",
            [](const Ellipsoid& e) { return "<tightbvh.Ellipsoid volume=" + std::to_string(e.volume()) + ">"; });
@@ -211,6 +263,8 @@ void bind_containers(py::module_& m) {
       .def_property_readonly("min", [](const Dop& d) { return py::array_t<double>(d.axes(), d.min.data()); })
       .def_property_readonly("max", [](const Dop& d) { return py::array_t<double>(d.axes(), d.max.data()); })
       .def_property_readonly("volume", &Dop::volume)
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle(&dop_state, &dop_from_state))
       .def("contains", &contains<Dop>, py::arg("points"), py::arg("tolerance") = 0.0)
       .def("__repr__", [](const Dop& d) {
         return "<tightbvh.Dop " + std::string(dop_name(d.kind)) + " volume=" + std::to_string(d.volume()) + ">";

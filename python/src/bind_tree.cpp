@@ -3,9 +3,11 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <cmath>
+#include <span>
 
 #include "arrays.hpp"
 #include "bindings.hpp"
+#include "state.hpp"
 #include "tightbvh/serialize.hpp"
 #include "tightbvh/tree_stats.hpp"
 #include "tightbvh/validate_tree.hpp"
@@ -128,15 +130,96 @@ TreeCheck check(const PyTree& tree, py::handle mesh_object) {
   return validate(tree.tree, *mesh);
 }
 
+// BuildStats as a flat tuple, every TreeStats field in declaration order.
+py::object build_stats_state(const BuildStats& b) {
+  const TreeStats& s = b.tree;
+  return py::make_tuple(b.seconds, s.nodes, s.leaves, s.depth_min, s.depth_max, s.leaf_triangles_min,
+                        s.leaf_triangles_max, s.leaf_triangles_avg, s.sum_volume,
+                        py::tuple(py::cast(s.volume_per_level)), s.bytes, s.bytes_per_triangle);
+}
+
+BuildStats state_build_stats(py::handle state) {
+  const py::tuple f = state_tuple(state, 12, "Tree build stats");
+  const std::string what = "Tree.__setstate__: build stats";
+  BuildStats b;
+  TreeStats& s = b.tree;
+  b.seconds = state_real(f[0], what);
+  s.nodes = state_count(f[1], what);
+  s.leaves = state_count(f[2], what);
+  s.depth_min = state_count(f[3], what);
+  s.depth_max = state_count(f[4], what);
+  s.leaf_triangles_min = state_count(f[5], what);
+  s.leaf_triangles_max = state_count(f[6], what);
+  s.leaf_triangles_avg = state_real(f[7], what);
+  s.sum_volume = state_real(f[8], what);
+  if (!py::isinstance<py::tuple>(f[9])) throw py::type_error(what + ": volume_per_level must be a tuple");
+  for (const py::handle v : py::reinterpret_borrow<py::tuple>(f[9])) s.volume_per_level.push_back(state_real(v, what));
+  s.bytes = state_count(f[10], what);
+  s.bytes_per_triangle = state_real(f[11], what);
+  return b;
+}
+
+// State: (the tree format's bytes (serialize.hpp), the Mesh or None, the fitter name or None, the
+// build stats or None). The mesh is a field of its own, so pickling a tree together with its
+// mesh stores the mesh once and the unpickled tree shares the unpickled mesh.
+py::object tree_state(const PyTree& t) {
+  std::vector<std::byte> bytes;
+  {
+    const py::gil_scoped_release release;
+    bytes = serialize(t.tree);
+  }
+  return py::make_tuple(py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
+                        t.mesh ? py::cast(std::const_pointer_cast<Mesh>(t.mesh)) : py::none(),
+                        t.fitter ? py::object(py::str(*t.fitter)) : py::none(),
+                        t.build_stats ? py::object(build_stats_state(*t.build_stats)) : py::none());
+}
+
+PyTree tree_from_state(const py::object& state) {
+  const py::tuple f = state_tuple(state, 4, "Tree");
+  if (!py::isinstance<py::bytes>(f[0])) throw py::type_error("Tree.__setstate__: the tree must be bytes");
+  const std::string bytes = f[0].cast<std::string>();
+  PyTree result;
+  if (!f[1].is_none()) {
+    if (!py::isinstance<Mesh>(f[1])) throw py::type_error("Tree.__setstate__: the mesh must be a Mesh or None");
+    result.mesh = f[1].cast<std::shared_ptr<Mesh>>();
+  }
+  if (!f[2].is_none()) {
+    result.fitter = state_string(f[2], "Tree.__setstate__: fitter");
+    if (!parse_fitter(*result.fitter))
+      throw py::value_error("Tree.__setstate__: unknown fitter '" + *result.fitter + "'");
+  }
+  if (!f[3].is_none()) result.build_stats = state_build_stats(f[3]);
+  const py::gil_scoped_release release;
+  // The tree format's checks (magic, version, sizes, checksum, structure): InputError -> ValueError.
+  result.tree = deserialize(std::as_bytes(std::span(bytes.data(), bytes.size())), "Tree.__setstate__");
+  if (result.mesh) {
+    const TreeCheck check = validate(result.tree, *result.mesh);
+    if (!check.ok()) throw InputError("Tree.__setstate__: not a tree of this mesh: " + check.errors.front());
+  }
+  return result;
+}
+
 void bind_tree_class(py::module_& m) {
   py::class_<TreeCheck>(m, "TreeCheck", "The result of Tree.validate: true when valid; errors lists the problems")
       .def_readonly("errors", &TreeCheck::errors)
       .def_property_readonly("ok", &TreeCheck::ok)
       .def("__bool__", &TreeCheck::ok)
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle([](const TreeCheck& c) -> py::object { return py::make_tuple(py::tuple(py::cast(c.errors))); },
+                      [](const py::object& state) {
+                        const py::tuple f = state_tuple(state, 1, "TreeCheck");
+                        if (!py::isinstance<py::tuple>(f[0]))
+                          throw py::type_error("TreeCheck.__setstate__: errors must be a tuple of strings");
+                        TreeCheck c;
+                        for (const py::handle e : py::reinterpret_borrow<py::tuple>(f[0]))
+                          c.errors.push_back(state_string(e, "TreeCheck.__setstate__: errors"));
+                        return c;
+                      }))
       .def("__repr__", [](const TreeCheck& c) {
         return c.ok() ? std::string("<tightbvh.TreeCheck: valid>") : "<tightbvh.TreeCheck: " + c.summary() + ">";
       });
-  py::class_<PyTree>(m, "Tree", "A tree of oriented boxes over a mesh (build() or Tree.load()); holds its mesh")
+  py::class_<PyTree>(m, "Tree", "A tree of oriented boxes over a mesh (build() or Tree.load()); holds its mesh. Pickles, copies "
+                            "and deep-copies (with its mesh, fitter and build stats; the tree in its file format)")
       .def_property_readonly("stats", &stats_dict, "dict: the keys of `tightbvh build --json`, and seconds if built")
       .def_property_readonly(
           "mesh", [](const PyTree& t) { return std::const_pointer_cast<Mesh>(t.mesh); },
@@ -164,6 +247,8 @@ void bind_tree_class(py::module_& m) {
       .def_static("load", &load, py::arg("path"), py::arg("mesh") = py::none(),
                   "Reads a tree file; with a mesh, checks the tree against it (ValueError if it does not fit) "
                   "and keeps it.")
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle(&tree_state, &tree_from_state))
       .def("validate", &check, py::arg("mesh") = py::none(),
            "Structure, and with a mesh (given or the tree's own) that every box contains its triangles.")
       .def("__repr__", [](const PyTree& t) {

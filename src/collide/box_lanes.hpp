@@ -109,7 +109,7 @@ template <class V, class M>
 // lengths and the largest kept. The same bound up to rounding (the root and the division come in
 // another order: a relative ~1e-16, far inside the kCompactBoxSlack the caller shrinks it by).
 // Branch-free, because in a distance descent whether each axis separates is close to a coin
-// toss: the scalar kernel's branches were mispredicted often. Two lanes compute the two child
+// toss: a scalar kernel's branches are mispredicted often. Two lanes compute the two child
 // pairs of a split at once, as boxes_overlap2 does for collide.
 template <class V>
 [[nodiscard]] inline V box_distance_bound(const LaneBox<V>& a, const LaneBox<V>& b, V eps) {

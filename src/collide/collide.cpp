@@ -36,8 +36,8 @@ struct BatchedTests {
   std::uint64_t& box_tests;
 };
 
-// WithMargin: pairs within options.margin (boxes inflated by it); without: touching pairs, the
-// code of margin-free collide unchanged. walk(test, leaves, batched) runs the descent:
+// WithMargin: pairs within options.margin (boxes inflated by it); without: touching pairs, with
+// no margin arithmetic at all. walk(test, leaves, batched) runs the descent:
 // traverse_pairs_tested from the roots with the batched tests, or traverse_front from a
 // QueryCache's front with the one-pair test.
 template <bool FirstHit, bool WithMargin, class Walker>

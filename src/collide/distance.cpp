@@ -298,7 +298,7 @@ class DistanceSearch {
       // less than a push and a later pop, and a closer pair found early prunes more. The same
       // distance (any order finds the least); 1-13% more triangle pairs measured, medians of
       // 0.93-1.03x the time on the four bench pairs' separated and gap poses, 12 of 14 faster
-      // (2026-11-26, README "Distance and safety margin").
+      // (docs/design-notes/distance-margin-solid.md, "Best first, with a monotone radix queue").
       int lo_index = 0;
       for (int k = 1; k < count; ++k)
         if (kids[k].bound < kids[lo_index].bound) lo_index = k;
@@ -356,11 +356,11 @@ class DistanceSearch {
   // direction does not rule out, the normals and cross products rule out about a third, at a
   // tenth of an exact distance; the corner-to-corner vectors (before the cross products: they
   // need no product) then 26-51% of the exact distances left, for 0.91-1.02x the time per query
-  // (median 0.97x; README, "Distance and safety margin", 2026-11-26). Each axis n is
-  // unnormalised: the gap g between the projections is compared with threshold |n| squared, so
-  // there is no root and no division. Rounding in the dot products is relative to |n| and the
-  // coordinates, which the caller's allowance in `threshold` covers as for the best pair's
-  // direction.
+  // (median 0.97x; docs/design-notes/distance-margin-solid.md,
+  // "Rule triangle pairs out before measuring them"). Each axis n is unnormalised: the gap g
+  // between the projections is compared with threshold |n| squared, so there is no root and no
+  // division. Rounding in the dot products is relative to |n| and the coordinates, which the
+  // caller's allowance in `threshold` covers as for the best pair's direction.
   static bool apart_by_sat(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& q0, const Vec3& q1,
                            const Vec3& q2, double threshold) {
     // Squares kept within the normal range, where each product rounds by a relative 2^-53 at

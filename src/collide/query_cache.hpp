@@ -36,8 +36,8 @@ struct FrontEntry {
 };
 inline constexpr std::uint8_t kMaxLiftLevel = 2;  // a failed lift is retried after at most 4 queries
 
-// A growable array of entries whose push is inlined (std::vector's push_back was not, and it
-// sits on the per-pair path).
+// A growable array of entries whose push is inlined (std::vector's push_back is not always, and
+// it sits on the per-pair path).
 class EntryList {
  public:
   [[nodiscard]] std::size_t size() const { return n_; }
@@ -129,11 +129,11 @@ enum class Source : std::uint8_t {
 // The descent of traverse_pairs, from the front of `st` (bound to ta, tb); rebuilds the front.
 // Used by the queries that visit every touching pair (all_pairs, with or without a margin). A
 // cached first_hit does not come here: it tries the last hit's leaf pair, then the cold descent
-// (collide.cpp), which tests in SIMD batches and nearest first and was faster than this one
-// (README, "Coherent sequences").
-// flatten (GCC, Clang; others ignore it): with the lifting paths the function outgrew GCC's
-// inlining budget, and the box test's 3x3 products and the entry pushes became calls (all_pairs on
-// the bench trajectory: 0.96x -> 1.04x of cold queries' speed at the time).
+// (collide.cpp), which tests in SIMD batches and nearest first and is faster than this one
+// (docs/design-notes/collide.md, "QueryCache: front tracking, kept but narrow").
+// flatten (GCC, Clang; others ignore it): with the lifting paths the function exceeds GCC's
+// inlining budget, and without flatten the box test's 3x3 products and the entry pushes become
+// calls (all_pairs on the bench trajectory: 0.96x of cold queries' speed without it, 1.04x with).
 template <class NodeTest, class LeafPair>
 [[gnu::flatten]] void traverse_front(const Tree& ta, const Tree& tb, DescendRule rule, QueryCache::State& st,
                                     NodeTest&& test, LeafPair&& leaves) {

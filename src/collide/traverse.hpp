@@ -89,9 +89,10 @@ using TestedPairStack = BasicPairStack<TestedPair>;
 // Of two nodes of about one size (within this ratio by the descend rule's measure) both are split
 // at once: their four child pairs are tested together (boxes_overlap_cross: four AVX2 lanes for
 // about the time of two SSE2 lanes), and where both children of the first split overlap the other
-// node (most splits in deep overlap) the two tests of the intermediate pairs are saved. Ratios 2,
-// 4, 8, 16 and any were measured on the shipped pair (README, "Splitting both nodes"): 8 was
-// fastest or within noise of it in every scenario and mode. (distance()'s search has its own.)
+// node (most splits in deep overlap) the two tests of the intermediate pairs are saved. Of the
+// ratios 2, 4, 8, 16 and any, measured on the shipped pair (docs/design-notes/collide.md,
+// "Split both nodes when they are of about one size"), 8 is fastest or within noise of it in every
+// scenario and mode. (distance()'s search has its own.)
 inline constexpr double kSplitBothRatio = 8.0;
 
 enum class Split {
@@ -138,7 +139,8 @@ enum class Split {
 // (most splits apart from contact) computes no gap, and the pairs are picked with branches that
 // predict "culled" there: ordering every pair by gap cost separated first_hit 17-60% of its time,
 // a branch-free pick of the overlapping pairs 10%. The depth of overlap (the least SAT slack of
-// the 15 axes) orders about as well but is not free. README, "Descent order".
+// the 15 axes) orders about as well but is not free. docs/design-notes/collide.md,
+// "Descent order: nearest first in first_hit".
 struct NoGap {};
 inline constexpr int kMaxChildPairs = 4;
 
@@ -232,12 +234,13 @@ Walk traverse_pairs(const Tree& ta, const Tree& tb, DescendRule rule, PairStack&
 // pair that traverse_pairs would pop next after it is popped (that pair's culled_before; a split's
 // culled pairs after its last overlapping one go to the pair under them on the stack, or to the
 // end of the walk). So a stopped walk counts no test that traverse_pairs would not have made, and
-// first_hit no longer pushes and pops its culled pairs (it did to count them at the pop: 4-13%
-// of its time, README "Splitting both nodes"). Pushes branch on each outcome: a branch-free push
-// (write the slot, advance by the outcome) was 4-10% faster in all_pairs near contact and in
+// first_hit does not push and pop its culled pairs (pushing them to count them at the pop costs
+// 4-13% of its time, docs/design-notes/collide.md,
+// "The descent's bookkeeping and the early exits"). Pushes branch on each outcome: a branch-free
+// push (write the slot, advance by the outcome) is 4-10% faster in all_pairs near contact and in
 // overlap but 5-10% slower in separated scenarios, where nearly every outcome is "culled" and
-// predicted, so the next pop runs ahead of the box test; branch-free, its address waits for it.
-// A walk that can stop, given a `gap`, pushes a split's overlapping child pairs nearest first and
+// predicted, so the next pop runs ahead of the box test; branch-free, its address waits for it. A
+// walk that can stop, given a `gap`, pushes a split's overlapping child pairs nearest first and
 // counts its culled ones after them (traverse_pairs' NearestFirst order).
 template <bool CanStop, class NodeTest, class ChildrenA, class ChildrenB, class ChildrenBoth, class LeafPair,
           class Gap = NoGap>

@@ -156,9 +156,9 @@ Closest closest_touching(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>
 // arithmetic; either way the same squared distances bit for bit. The winner's points are then
 // recomputed by the scalar kernel (the same operations, so the same values), and the edge pairs
 // flagged nearly parallel or degenerate add their four endpoint-to-segment candidates (rare).
-// Measuring all 15 replaced PQP's early exit (stop at the first candidate whose normal planes
-// separate the triangles), whose test and the clamps' branches were mispredicted about 20 times
-// a pair (callgrind's model) at ~400 ns a pair (perf, shipped separated poses).
+// All 15 are measured rather than stopping early as PQP does (at the first candidate whose normal
+// planes separate the triangles): that test and the clamps' branches are mispredicted about 20
+// times a pair (callgrind's model), at ~400 ns a pair (perf, shipped separated poses).
 
 using query_detail::TriFace;
 using query_detail::TriPairInput;
@@ -294,7 +294,8 @@ Closest closest_disjoint(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>
 // monotone in it, so it holds iff it holds for some candidate. The edge pairs go first, in lanes
 // batch by batch, and the faces are made only when they decide nothing: on the shipped pair's
 // near poses at a margin of 1% the edge pairs decide most pairs, and this path takes a third
-// fewer instructions than the whole distance did (README, "Distance and safety margin").
+// fewer instructions than the whole distance did (docs/design-notes/distance-margin-solid.md,
+// "Margin: boxes inflated, the pair test stops at the first candidate").
 bool disjoint_within(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>& q, bool avx2, double margin) {
   TriPairInput in = pair_input(p, q, false);
   double d2[kTriCandidates];

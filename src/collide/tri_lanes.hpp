@@ -9,7 +9,7 @@
 // -ffp-contract=off), so a lane's squared distance equals the scalar one bit for bit and the
 // search's answers do not depend on the CPU. Branch-free because which clamp applies, and
 // whether a vertex projects inside a face, is close to a coin toss for the pairs distance()
-// measures: the branchy scalar loop was mispredicted about 20 times a pair.
+// measures: a branchy scalar loop is mispredicted about 20 times a pair.
 #include <cmath>
 
 namespace tightbvh::query_detail {

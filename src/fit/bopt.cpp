@@ -54,8 +54,9 @@ AxisBox project_all(std::span<const Vec3> points, const Vec3& origin, const Vec3
 // (its <= 15 pair directions four per AVX instruction, two per SSE2 one) instead of the 2D hull's
 // sort and the calipers: the same minimum area up to rounding. Measured on approx trees
 // (instructions of build(), AVX): 6 points: knot1 -1.4%, cow -2.2%; 5: -1.0%, -1.6%; 7 and 8
-// gain no more, and with SSE2 lanes alone 6 is where the pairs stop paying (README, "Tree
-// builder"). One threshold for all CPUs, so that trees do not depend on the instruction set.
+// gain no more, and with SSE2 lanes alone 6 is where the pairs stop paying. One threshold for all
+// CPUs, so that trees do not depend on the instruction set (docs/design-notes/fitters.md,
+// "Bopt: the silhouette as one cycle, small polygons by an edge scan").
 constexpr std::size_t kPairSearchMax = 6;
 static_assert(kPairSearchMax <= kMinAreaRectOfPointsMax);
 

@@ -15,7 +15,8 @@ namespace {
 // then two rounds of "farthest point from the current end". `project(p, t)` writes the D
 // projections of p. One pass over the points for all directions (point-major: the same
 // comparisons in the same order per direction as a pass per direction, so the same pairs, at a
-// fraction of the loads and loop overhead; lemma_box was 7% of an approx tree build).
+// fraction of the loads and loop overhead; lemma_box, its caller, runs on every node of an approx
+// tree build).
 template <int D, typename Point, typename Project>
 std::array<std::size_t, 2> approx_diameter(std::span<const Point> pts, const Project& project) {
   double vlo[D], vhi[D];
@@ -26,7 +27,7 @@ std::array<std::size_t, 2> approx_diameter(std::span<const Point> pts, const Pro
     double t[D];
     project(pts[i], t);
     // Strict comparisons: the first point reaching an extreme. As selects, not branches: which
-    // point is extreme along which direction is a coin toss, and mispredicted branches here were
+    // point is extreme along which direction is a coin toss, and mispredicted branches here would be
     // a tenth of an approx tree build's (cachegrind --branch-sim).
     for (int d = 0; d < D; ++d) {
       const bool below = t[d] < vlo[d], above = t[d] > vhi[d];

@@ -71,10 +71,10 @@ Mat3 degenerate_axes(const ConvexHull3& hull, std::vector<Vec2>& polygon, std::v
 // Bopt projects all points instead of the hull's silhouette (same boxes). The hull costs ~1 us
 // for 10 points and ~3 us for 30, so `diameter` (one Bopt) still gains from skipping it up to 32
 // points, `approx` (dozens of Bopt calls, cheaper on the silhouette) only up to 24. Measured on
-// approx tree builds: 16 was best (32: +2.5%, 8: +1%, no skipping: +7%) until tree nodes below 64
-// points took a single improvement start (Extras::by_size), leaving fewer Bopt calls to pay for a
-// hull; since then 24 takes 0.6-1.5% fewer instructions than 16 (knot1, camel, elephant; 32 gains
-// no more on elephant), with the same trees' sums of volumes.
+// approx tree builds, where nodes below 64 points take a single improvement start
+// (Extras::by_size) and so leave fewer Bopt calls to pay for a hull: 24 takes 0.6-1.5% fewer
+// instructions than 16 (knot1, camel, elephant; 32 gains no more on elephant), with the same
+// trees' sums of volumes.
 constexpr std::size_t kSmallSetApprox = 24;
 constexpr std::size_t kSmallSetDiameter = 32;
 
@@ -125,9 +125,11 @@ Obb fit_pca(std::span<const Vec3> points, std::span<const Vec3> triangle_corners
 // those <= 98 points, and the extents are taken over the whole set, so the box contains it.
 // O(n): one pass for the covariance, one for the extremes, one for the extents; the PCA box is
 // kept when smaller. In the `auto` tree fitter (nodes of 64-2047 triangles) it keeps ~90% of
-// approx's volume gain over pca at ~3x pca's build time (README, "Tree builder"). A k = 3 kernel (145 directions) or approx's full
-// search on the kernel (restarts, tilts) cost 15-30% more build time for +-2% of gain (measured
-// with tightbvh-build-bench; a tree's topology moves with its boxes, so it goes either way).
+// approx's volume gain over pca at ~3x pca's build time
+// (docs/design-notes/auto-fitter.md, "Spend the search where the volume is"). A k = 3 kernel (145
+// directions) or approx's full search on the kernel (restarts, tilts) cost 15-30% more build time
+// for +-2% of gain (measured with tightbvh-build-bench; a tree's topology moves with its boxes, so
+// it goes either way).
 constexpr int kKernelGrid = 2;
 // Sets of at least this many points (tree nodes of ~512 triangles and more, which hold most of a
 // tree's volume) scan the k = 2 grid on the kernel's hull; smaller ones the k = 1 grid on the
@@ -288,7 +290,8 @@ Obb fit_kernel(std::span<const Vec3> points, std::span<const Vec3> triangle_corn
   // Below the root of an `auto` tree: Bopt along the parent's axes and along the node's own PCA
   // axes instead of the grid scan. The parent's frame suits most children; the PCA axes (already
   // computed above) rescue the nodes it does not suit, for 3 more Bopt calls: a closer share of
-  // approx's gain and fewer box tests in separated poses (README, "The default fitter").
+  // approx's gain and fewer box tests in separated poses (docs/design-notes/auto-fitter.md,
+  // "Search from the parent's box").
   std::array<Vec3, 6> seed_store;
   if (parent_axes != nullptr)
     for (int j = 0; j < 3; ++j) seed_store[j] = parent_axes->col(j), seed_store[3 + j] = pca.axes.col(j);
@@ -319,8 +322,9 @@ static_assert(kNormalLanes >= 1 + kTriangleNormals && kNormalLanes % 4 == 0);
 // normals, whichever the points are thinnest across (width (max - min of d . p) / |d|; the first
 // on ties; zero and non-finite candidates never win; the summed normal when none qualifies). A
 // curved or folded patch is often thinner across one of its own triangles' planes than across its
-// mean plane, and the minimum box of a patch is nearly flush with it (README, "The default
-// fitter"). One projection pass over the points for all candidates (four per AVX instruction).
+// mean plane, and the minimum box of a patch is nearly flush with it
+// (docs/design-notes/auto-fitter.md, "Small nodes: one Bopt along the thinnest normal"). One
+// projection pass over the points for all candidates (four per AVX instruction).
 Vec3 thinnest_normal(std::span<const Vec3> points, std::span<const Vec3> triangle_corners) {
   alignas(32) std::array<double, kNormalLanes> dx, dy, dz, lo, hi;
   const std::size_t triangles = triangle_corners.size() / 3;
@@ -358,9 +362,10 @@ Vec3 thinnest_normal(std::span<const Vec3> points, std::span<const Vec3> triangl
 // direction does much of what approx's scan of dozens does, at the cost of one projection pass for
 // the candidates, one for Bopt and a 2D hull. In `auto` (nodes of 2-63 triangles) boxes flush with
 // a patch are thin where the other mesh's surface comes close, so they cull better in queries than
-// their volume says (README, "The default fitter"). The PCA box is kept when smaller (a patch that
-// folds over, a normal that sums to nothing). With `fallback_axes` (auto below the root: the parent
-// box's axes) the box along those is the fallback instead, and no PCA is computed.
+// their volume says (docs/design-notes/auto-fitter.md,
+// "Small nodes: one Bopt along the thinnest normal"). The PCA box is kept when smaller (a patch
+// that folds over, a normal that sums to nothing). With `fallback_axes` (auto below the root: the
+// parent box's axes) the box along those is the fallback instead, and no PCA is computed.
 Obb fit_normal_bopt(std::span<const Vec3> points, std::span<const Vec3> triangle_corners, FitWorkspace& workspace,
                     const Mat3* pca_axes = nullptr, const Mat3* fallback_axes = nullptr) {
   using namespace fit_detail;

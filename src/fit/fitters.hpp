@@ -87,14 +87,15 @@ class VolumeBound {
 // hull) the local improvement (Section 6.5) from the best grid box (n < 64) or the four best, run
 // until it gains less than 1e-3 below n = 256, and the tilt search only from n = 128. The grid
 // scan itself, which carries Section 6.4's (1 + eps) guarantee, is the same.
-// Measured on the trees of the 10 meshes of tightbvh-build-bench (README, "Tree builder",
-// approx): nodes below these sizes are most of a tree (85-90% have fewer than 16 points) but a
-// few percent of its sum of volumes, the extra starts and tilts changed their boxes by little
-// (the tilts never did below 8 points), and they were ~75% of a tree's Bopt calls. The second
-// round of cuts (2026-11-27: one start up to 63 points where two started from 16, tilts from 128
-// instead of 32, a 1e-3 stop below 256 instead of 1e-6) took 19% of knot1's instructions and
-// moved the trees' sums of volumes by -0.2% to +0.55% (tilts from 256, four starts from 128 or
-// the tilts' last step at 0.02 moved elephant's by +1.1% to +1.6%).
+// Measured on the approx trees of the 10 meshes of tightbvh-build-bench
+// (docs/design-notes/fitters.md, "Fewer extras on small tree nodes"): nodes below these sizes are
+// most of a tree (85-90% have fewer than 16 points) but a few percent of its sum of volumes, the
+// extra starts and tilts change their boxes by little (the tilts never do below 8 points), and with
+// them on every node they are ~75% of a tree's Bopt calls. Against two starts from 16 points, tilts
+// from 32 and a 1e-6 stop at every size, these thresholds (one start up to 63 points, tilts from
+// 128, a 1e-3 stop below 256) save 19% of knot1's instructions and move the trees' sums of volumes
+// by -0.2% to +0.55%; tilts from 256, four starts from 128 or the tilts' last step at 0.02 would
+// move elephant's by +1.1% to +1.6%.
 enum class Extras { full, by_size };
 inline constexpr std::size_t kFourStartsFrom = 64;
 inline constexpr std::size_t kTiltFrom = 128;
@@ -102,8 +103,9 @@ inline constexpr std::size_t kFineImprovementFrom = 256;
 inline constexpr double kCoarseImprovementGain = 1e-3;
 [[nodiscard]] int improvement_starts(std::size_t n, Extras extras);
 
-// The scan's cost on tree nodes (measured on the approx trees of the 10 build-bench meshes, README
-// "Tree builder"), without changing what it returns (Section 6.4's minimum over the grid):
+// The scan's cost on tree nodes (measured on the approx trees of the 10 build-bench meshes,
+// docs/design-notes/fitters.md, "Skipping directions by a volume lower bound"), without changing
+// what it returns (Section 6.4's minimum over the grid):
 // - Its ordering pass (the projection ranges and cheap bounds of the 49 directions) takes AVX lanes
 //   where the CPU has them (grid_order.hpp; the same values bit for bit as the SSE2 loops, so the
 //   same order on every x86-64), and the directions are picked in order of their bound one at a

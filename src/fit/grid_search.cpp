@@ -45,7 +45,7 @@ VolumeBound::VolumeBound(const HullGeometry& g, const AxisBox& bstar) : g_(g) {
     const Vec3 a = bstar.axes.col(axis);
     // The extremes' projections kept, not taken again at every comparison: the same values (a
     // product is rounded the same way every time), so the same points. Strict comparisons (the
-    // first point reaching an extreme) as selects: as branches they were mispredicted at random.
+    // first point reaching an extreme) as selects: as branches they would be mispredicted at random.
     double lo = a.dot(g.local[0]), hi = lo;
     std::size_t at_lo = 0, at_hi = 0;
     for (std::size_t i = 0; i < g.local.size(); ++i) {
@@ -307,7 +307,7 @@ TopBoxes scan_grid(const HullGeometry& g, const AxisBox& bstar, const VolumeBoun
     alignas(32) double lower[kWidthLanes];
     bound.cheap_lanes(dx, dy, dz, lo, hi, lower, kWidthLanes);
     // The directions in increasing order of (bound, index), as sorting the pairs below would, but
-    // picked one at a time: the scan stops after a few of the 49 (a sort of all of them was ~2% of
+    // picked one at a time: the scan stops after a few of the 49 (a sort of all of them costs ~2% of
     // an approx tree build). Picked and zero directions get an infinite bound.
     constexpr double kInf = std::numeric_limits<double>::infinity();
     const std::size_t count = grid.size();

@@ -23,7 +23,7 @@ void kernel_extremes_avx(const double* xyz, std::size_t n, const double (&center
   // Per direction, the start of the first block that reached its extreme (strict comparisons: a
   // later block that only ties keeps it), kept by blends: whether a block improves an extreme is a
   // coin toss early on, and as branches (with the search for the point inside the block at every
-  // improvement) they were 11% of an auto build's mispredictions (cachegrind --branch-sim, knot1).
+  // improvement) they would be 11% of an auto build's mispredictions (cachegrind --branch-sim, knot1).
   alignas(32) double lo_block[kKernelLanes] = {}, hi_block[kKernelLanes] = {};
   __m256d qx[kBlock], qy[kBlock], qz[kBlock];
   for (std::size_t b = 0; b < n; b += kBlock) {

@@ -89,7 +89,8 @@ Mat3 principal_axes_from(const Mat3& covariance, const Mat3& start) {
   // extents are measured along whatever axes come out. Stopping there, not at 1e-12, saves most
   // of a sweep a node in refit, whose rotations are chains of divisions and square roots:
   // camel's refit 6.5-7.6 -> 5.8-6.9 ms, FCL's bottom-up refit / ours 1.96-2.21x -> 2.24-2.41x
-  // (1e-8: 2.12-2.28x, 1e-9: no gain), the same volumes (README, "Refit").
+  // (1e-8: 2.12-2.28x, 1e-9: no gain), the same volumes (docs/design-notes/refit.md,
+  // "pca refit: moments from the children, axes by Jacobi sweeps").
   const double negligible = 1e-7 * largest;
   // The rotation in the plane (p, q) that zeroes d[p][q] (r the third index), in the symmetric
   // update form of Numerical Recipes (3rd ed., Section 11.1): compile-time indices keep d and v in

@@ -122,8 +122,8 @@ class Quickhull {
   std::uint32_t next_plane_id_ = 0;
   std::size_t live_ = 0;  // points in outside sets of live faces
 
-  // Documented at their definitions (quickhull.cpp). Declared inline, as they were when defined
-  // in the class: the same inlining as before the split (only quickhull.cpp calls them).
+  // Documented at their definitions (quickhull.cpp). Declared inline, so that they inline as
+  // member functions defined in the class would (only quickhull.cpp calls them).
   inline std::uint32_t new_face(std::uint32_t a, std::uint32_t b, std::uint32_t c);
   inline bool coplanar(std::uint32_t f, std::uint32_t g) const;
 

@@ -208,9 +208,10 @@ class Builder {
 
   // Whether a node of n triangles fits from derived moments (normal-bopt: the PCA box is only its
   // fallback, and axes that differ in the last bits give about the same box) or only from sums
-  // over its own triangles, as before (approx-kernel: its 49 directions are taken in the PCA
-  // frame, so axes rotated by rounding can pick other extreme points and another box, and the
-  // splits below follow; elephant's gain share moved 0.885 -> 0.874 with derived moments there).
+  // over its own triangles (approx-kernel: its 49 directions are taken in the PCA frame, so axes
+  // rotated by rounding can pick other extreme points and another box, and the splits below
+  // follow; elephant's gain share is 0.885 with sums over its own triangles, 0.874 with derived
+  // moments there).
   [[nodiscard]] bool takes_derived_moments(Index n) const {
     return detail::method_for(options_.fitter, n, order_.size()) == FitMethod::normal_bopt && wants_moments(n);
   }
@@ -241,7 +242,7 @@ class Builder {
       scratch.stamp_epoch = 1;
     }
     // The vertex indices from the position-indexed copy (contiguous, where mesh_.triangles[order_[p]]
-    // was a cache miss per triangle on large meshes), the positions from the node's own corners
+    // costs a cache miss per triangle on large meshes), the positions from the node's own corners
     // (just read by the fitter), and no branch: every corner is written and counted when new
     // (whether a vertex was seen is unpredictable, ~1 corner in 3 to 6 is new). The same vertices
     // in the same order as a push_back of the new ones.

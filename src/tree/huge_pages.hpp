@@ -1,8 +1,10 @@
 #pragma once
 // The builder writes about 210 bytes of fresh memory per triangle (corners 72, nodes 136). With
 // 4 KiB pages each page is one fault, and on a virtual machine a fault costs far more than the
-// writes: 23 ms for the 7 MB node array of a 52k-triangle mesh on the 2-core VM of the README
-// (a tenth of a one-thread `auto` build, and all of it before a second thread can help).
+// writes: 23 ms for the 7 MB node array of a 52k-triangle mesh on the 2-core VM of
+// docs/benchmarks.md ("Machine"), a tenth of a one-thread `auto` build, and all of it before a
+// second thread can help (docs/design-notes/tree-builder.md, "Threads: one queue, largest first,
+// no barrier").
 // Transparent huge pages cut that to a few faults; the kernel may ignore the hint.
 #include <cstddef>
 #include <cstdint>

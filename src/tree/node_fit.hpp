@@ -27,7 +27,7 @@ namespace tightbvh::detail {
   const double len2[3] = {edges[0].squaredNorm(), edges[1].squaredNorm(), edges[2].squaredNorm()};
   // 0 if edge 0 is longest, else 1 if edge 1 is, else 2 (ties to the lower index), as arithmetic
   // on the comparisons: which edge is longest is a coin toss, and half of all nodes are single
-  // triangles, so a branch here was mispredicted at every other leaf.
+  // triangles, so a branch here would be mispredicted at every other leaf.
   const int first_longest = (len2[0] >= len2[1]) & (len2[0] >= len2[2]);
   const int second_longest = (len2[0] < len2[1]) & (len2[1] >= len2[2]);
   const int longest = 2 - 2 * first_longest - second_longest;

@@ -5,7 +5,9 @@
 #include <bit>
 #include <cstring>
 #include <fstream>
+#include <istream>
 #include <limits>
+#include <ostream>
 
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/validate_tree.hpp"
@@ -123,26 +125,38 @@ Tree deserialize(std::span<const std::byte> bytes, const std::string& source) {
   return tree;
 }
 
-void save_tree(const Tree& tree, const std::filesystem::path& path) {
+void save_tree(const Tree& tree, std::ostream& out, const std::string& destination) {
   const std::vector<std::byte> bytes = serialize(tree);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out.flush();
+  if (!out) throw InputError(destination + ": write failed");
+}
+
+Tree load_tree(std::istream& in, const std::string& source) {
+  // Read in chunks up to the end: the buffer is as large as the input, never as large as a field
+  // inside it says.
+  std::vector<std::byte> bytes;
+  std::array<char, 1 << 16> chunk;
+  while (in.read(chunk.data(), chunk.size()) || in.gcount() > 0) {
+    const auto* first = reinterpret_cast<const std::byte*>(chunk.data());
+    bytes.insert(bytes.end(), first, first + in.gcount());
+  }
+  if (in.bad() || !in.eof()) throw InputError(source + ": read failed");
+  return deserialize(bytes, source);
+}
+
+void save_tree(const Tree& tree, const std::filesystem::path& path) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) throw InputError(path.string() + ": cannot open for writing");
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  save_tree(tree, out, path.string());
   out.close();
   if (!out) throw InputError(path.string() + ": write failed");
 }
 
 Tree load_tree(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot open");
-  const std::streamoff size = in.tellg();
-  if (size < 0) throw InputError(path.string() + ": cannot determine the size");
-  // The buffer is as large as the file itself, never as large as a field inside it says.
-  std::vector<std::byte> bytes(static_cast<std::size_t>(size));
-  in.seekg(0);
-  in.read(reinterpret_cast<char*>(bytes.data()), size);
-  if (!in) throw InputError(path.string() + ": read failed");
-  return deserialize(bytes, path.string());
+  return load_tree(in, path.string());
 }
 
 }  // namespace tightbvh

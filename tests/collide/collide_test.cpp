@@ -150,7 +150,8 @@ TEST(Collide, MeshesFarFromTheOriginKeepTheirCulling) {
 // timed: the same 18 poses (deep overlap to apart), all_pairs, the shipped meshes. Measured:
 // auto 1.04x approx's box tests, pca 1.26x; the previous auto (pca below 32 triangles) 1.16x.
 // (first_hit counts over so few poses depend on where the first hit happens to be: the
-// benchmark measures them, README "Tree builder".)
+// benchmark measures them: docs/design-notes/auto-fitter.md,
+// "The deep-overlap first_hit gap: accepted".)
 TEST(Collide, AutoTreesNeedAboutTheBoxTestsOfApproxTrees) {
   const Mesh knot = shipped("meshes/knot1.off");
   const Mesh elephant = shipped("meshes/elephant.off");
@@ -166,8 +167,8 @@ TEST(Collide, AutoTreesNeedAboutTheBoxTestsOfApproxTrees) {
   const double pca = box_tests(FitMethod::pca);
   const double auto_fit = box_tests(AutoFit{});
   RecordProperty("auto_over_approx", std::to_string(auto_fit / approx));
-  // Issue 13's "within 5%" for all_pairs: measured 1.043 since the small nodes' thinnest normal
-  // (normal-bopt), 1.061 along the area-weighted normal alone, which this bound rejects.
+  // Within 5% for all_pairs: measured 1.043 with the small nodes' thinnest normal (normal-bopt),
+  // 1.061 along the area-weighted normal alone, which this bound rejects.
   EXPECT_LT(auto_fit, 1.05 * approx) << "auto " << auto_fit << ", approx " << approx;
   EXPECT_LT(auto_fit, 0.9 * pca) << "auto " << auto_fit << ", pca " << pca;
 }

@@ -334,7 +334,7 @@ TEST(FclExport, DistanceOnExportedObbRssEqualsFclOwn) {
   }
 }
 
-// Issue 15, item 6: FCL's own fcl::distance on our exported RSS and OBBRSS trees equals our
+// FCL's own fcl::distance on our exported RSS and OBBRSS trees equals our
 // distance() (within 1e-9 relative, 1e-12 of the scale absolute), from touching to separated.
 TEST(FclExport, FclDistanceOnExportedTreesEqualsOurs) {
   const Mesh& a = shipped("elephant.off");

@@ -42,8 +42,8 @@ TEST(NormalBopt, ContainsAndNeverLargerThanPcaOnSmallTreeNodes) {
     const double share = (pca_sum - normal_sum) / (pca_sum - approx_sum);
     RecordProperty(std::string("share_of_approx_gain_") + (name[7] == 'k' ? "knot1" : "elephant"), std::to_string(share));
     // Measured: 67% (knot1) and 65% (elephant) of approx's volume gain over pca on these nodes;
-    // along the area-weighted normal alone (before the triangles' normals were candidates) 43% and
-    // 32%, which this bound rejects. What it gains in queries is more (collide_test:
+    // along the area-weighted normal alone (without the triangles' own normals as candidates) 43%
+    // and 32%, which this bound rejects. What it gains in queries is more (collide_test:
     // AutoTreesNeedAboutTheBoxTestsOfApproxTrees).
     EXPECT_GE(share, 0.55);
   }

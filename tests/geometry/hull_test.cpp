@@ -381,7 +381,7 @@ TEST(Hull3, OutsidePointWithANonPositiveRoundedDeterminant) {
   EXPECT_GT(found, 0);
 }
 
-// Meshes: exactly valid, and the vertices are qhull's ('Qt Q8', the former implementation) up to
+// Meshes: exactly valid, and the vertices are qhull's ('Qt Q8', the oracle's options) up to
 // points that qhull classes as coplanar within its precision. Those must really be extreme: a
 // face of the hull of the other points has them strictly above it, with every other point
 // weakly below (checked exactly).
@@ -486,7 +486,7 @@ TEST(Hull3, CheckerRejectsBrokenHulls) {
   std::swap(flipped.faces[3][0], flipped.faces[3][1]);
   EXPECT_FALSE(valid_solid_hull(flipped, points));
   ConvexHull3 moved = good;
-  moved.vertices[0] *= 0.9;  // no longer the input point
+  moved.vertices[0] *= 0.9;  // moved off the input point
   EXPECT_FALSE(valid_solid_hull(moved, points));
   std::vector<Vec3> outside = points;
   outside.push_back(good.vertices[0] * 1.5);  // a point the hull does not contain
@@ -546,7 +546,7 @@ TEST(Hull2, MonotoneChainDropsCollinearAndDuplicates) {
 }
 
 // Nearly collinear sets: rounded cross products can keep a point in both the lower and the upper
-// chain, which once made the chain longer than the input (a heap overflow found under ASan).
+// chain, which can make a careless chain longer than the input (a heap overflow under ASan).
 TEST(Hull2, NearlyCollinearSetsGiveAStrictlyConvexHullOfTheInput) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);

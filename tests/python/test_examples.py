@@ -29,3 +29,24 @@ def test_fit_containers_prints_every_volume():
     assert [r.split()[0] for r in rows] == tightbvh.fit_methods()
     exact_row = next(r for r in rows if r.startswith("exact "))
     assert exact_row.split()[2] == "1.0000"
+
+
+# The scripts below check their own answers (a fresh build, the brute-force reference, single
+# queries) and exit non-zero when one is wrong: check=True in run() fails the test then.
+def test_refit_deforming_mesh_agrees_with_fresh_builds():
+    lines = run("refit_deforming_mesh.py").splitlines()
+    assert [line.split(":")[0] for line in lines[:-1]] == [f"frame {i}" for i in range(8)]
+    assert lines[-1] == "refitted tree agrees with fresh builds on all 8 frames"
+
+
+def test_distance_closest_points_agrees_with_brute_force():
+    lines = run("distance_closest_points.py").splitlines()
+    assert lines[0].startswith("distance ") and float(lines[0].split()[1]) > 0
+    assert lines[-1].startswith("brute force: ") and lines[-1].endswith(": agrees")
+
+
+def test_collide_many_poses_equals_single_queries():
+    last = run("collide_many_poses.py").splitlines()[-1]
+    assert last.startswith("64 poses on 2 threads: ") and last.endswith("equal to 64 single queries")
+    touching, apart = int(last.split()[5]), int(last.split()[7])
+    assert touching > 0 and apart > 0 and touching + apart == 64

@@ -106,7 +106,8 @@ def test_regular_tetrahedron_has_the_known_minimum_box():
     s = 1 / math.sqrt(3)
     points = s * np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]], dtype=float)
     assert tightbvh.fit(points, "exact").volume == pytest.approx(8 / math.sqrt(27), rel=1e-12)
-    # Eberly's 2015 method misses that cube (the known counterexample, README).
+    # Eberly's 2015 method misses that cube (the known counterexample: docs/algorithms.md,
+    # "eberly2015").
     assert tightbvh.fit(points, "eberly2015").volume > 1.5 * 8 / math.sqrt(27)
 
 

@@ -1,11 +1,12 @@
 // Every fitter and the builder on meshes derived from the shipped ones (derived_meshes.hpp):
 // midpoint-subdivided once and twice, shifted by 1e6, scaled by 1e-6 and 1e6, triangles
-// duplicated, flat grids exact and with 1e-12 noise. Subdivided meshes once made the hull-based
-// fitters throw on nodes with sliver hull faces (issue 11).
+// duplicated, flat grids exact and with 1e-12 noise. Subdivided meshes have nodes with sliver hull
+// faces, on which the hull-based fitters must not throw.
 //
 // The suite runs a sample: knot1's family and the grids; convex_hull on every fourth node of a pca
-// tree (every hull-based fitter starts there; the bug hit about 1 node in 10,000), the default and pca trees validated in full (every
-// node's box contains its triangles), every fitter on sampled nodes. TIGHTBVH_FULL_SWEEP=1 runs
+// tree (every hull-based fitter starts there; about 1 node in 10,000 has sliver faces), the
+// default and pca trees validated in full (every node's box contains its triangles), every
+// fitter on sampled nodes. TIGHTBVH_FULL_SWEEP=1 runs
 // all shipped meshes, the hull of every node, 3,000 sampled nodes per fitter and mesh, and a
 // whole validated tree with every fitter (exact up to 30,000 triangles, approx-snap up to 64)
 // (scripts/robustness-sweep).

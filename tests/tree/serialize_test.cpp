@@ -4,6 +4,8 @@
 
 #include <cstring>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 
 #include "build_test_util.hpp"
 #include "forge_checksum.hpp"
@@ -84,7 +86,7 @@ TEST(Serialize, RejectsWrongMagicVersionAndSizes) {
   auto version = good;
   put_u32(version, 8, 3);
   expect_rejected(version, "unsupported tree format version 3");
-  put_u32(version, 8, 1);  // the double-box format of earlier releases: says what to do
+  put_u32(version, 8, 1);  // version 1, the double-box format: the message says what to do
   expect_rejected(version, "version 1 (double-precision boxes");
   expect_rejected(version, "rebuild the tree");
   expect_rejected(std::vector<std::byte>(good.begin(), good.begin() + 20), "truncated");
@@ -161,6 +163,66 @@ TEST(Serialize, EveryTruncationIsRejected) {
   for (std::size_t n = 0; n < good.size(); ++n)
     EXPECT_THROW((void)deserialize(std::vector<std::byte>(good.begin(), good.begin() + n)), InputError) << n;
   EXPECT_NO_THROW((void)deserialize(good));
+}
+
+std::vector<std::byte> bytes_of(const std::string& s) {
+  const auto* first = reinterpret_cast<const std::byte*>(s.data());
+  return {first, first + s.size()};
+}
+
+std::string string_of(const std::vector<std::byte>& bytes) {
+  return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
+}
+
+TEST(Serialize, StreamFormIsTheFileForm) {
+  const Mesh mesh = elephant();
+  const Tree tree = elephant_tree(mesh);
+  const auto path = temp_file("stream.tree");
+  save_tree(tree, path);
+  std::ifstream file(path, std::ios::binary);
+  const std::string file_bytes{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+  std::ostringstream out;
+  save_tree(tree, out);
+  EXPECT_EQ(out.str(), file_bytes);  // byte for byte
+  EXPECT_EQ(bytes_of(out.str()), serialize(tree));
+  std::istringstream in(out.str());
+  const Tree loaded = load_tree(in);
+  ASSERT_EQ(loaded.nodes.size(), tree.nodes.size());
+  EXPECT_EQ(std::memcmp(loaded.nodes.data(), tree.nodes.data(), tree.nodes.size() * sizeof(Node)), 0);
+  EXPECT_EQ(loaded.triangle_order, tree.triangle_order);
+  EXPECT_EQ(serialize(loaded), serialize(tree));
+  std::filesystem::remove(path);
+}
+
+TEST(Serialize, StreamRejectsTruncatedAndCorruptBytes) {
+  const std::string good = string_of(serialize(elephant_tree(elephant())));
+  const auto rejected = [](const std::string& bytes, const std::string& what) {
+    std::istringstream in(bytes);
+    try {
+      (void)load_tree(in, "pickle");
+      ADD_FAILURE() << "accepted, expected: " << what;
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.rfind("pickle: ", 0), 0u) << message;
+      EXPECT_NE(message.find(what), std::string::npos) << message;
+    }
+  };
+  rejected("", "wrong magic");
+  rejected(good.substr(0, 30), "truncated");
+  rejected(good.substr(0, good.size() - 3), "truncated");
+  rejected(good + "x", "trailing data");
+  std::string flipped = good;
+  flipped[good.size() / 2] = static_cast<char>(flipped[good.size() / 2] ^ 0x10);
+  rejected(flipped, "checksum mismatch");
+  std::istringstream failed(good);
+  failed.setstate(std::ios::badbit);  // a stream that cannot be read
+  EXPECT_THROW((void)load_tree(failed, "pickle"), InputError);
+}
+
+TEST(Serialize, StreamWriteFailureIsAnInputError) {
+  std::ostringstream out;
+  out.setstate(std::ios::badbit);
+  EXPECT_THROW(save_tree(elephant_tree(elephant()), out, "sink"), InputError);
 }
 
 }  // namespace

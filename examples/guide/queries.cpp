@@ -1,0 +1,70 @@
+// The user guide's queries: poses, first_hit and all_pairs, a safety margin, distance with an
+// upper bound, many poses with one workspace or in one batch, and a coherent sequence with a
+// QueryCache. Run by the tests (ctest guide_queries).
+#include <tightbvh/build.hpp>
+#include <tightbvh/collide.hpp>
+#include <tightbvh/distance.hpp>
+#include <tightbvh/mesh.hpp>
+#include <tightbvh/pose_text.hpp>
+#include <tightbvh/query_cache.hpp>
+#include <tightbvh/query_workspace.hpp>
+
+#include <cstdio>
+#include <vector>
+
+int main() {
+  const tightbvh::Mesh mesh_a = tightbvh::load_mesh(TIGHTBVH_SOURCE_DIR "/meshes/knot1.off");
+  const tightbvh::Mesh mesh_b = tightbvh::load_mesh(TIGHTBVH_SOURCE_DIR "/meshes/elephant.off");
+  const tightbvh::Tree tree_a = tightbvh::build(mesh_a);
+  const tightbvh::Tree tree_b = tightbvh::build(mesh_b);
+
+  // Poses place each mesh in the world: x -> rotation * x + translation. Only B relative to A
+  // matters (relative_pose(pose_a, pose_b) = pose_a^-1 * pose_b).
+  const tightbvh::Pose pose_a;  // the identity
+  tightbvh::Pose pose_b;
+  pose_b.rotation = Eigen::AngleAxisd(0.5, tightbvh::Vec3::UnitZ()).toRotationMatrix();
+  pose_b.translation = tightbvh::Vec3(0.1, 0.0, 0.0);
+  // A pose as the CLI's --pose text: the rotation row by row, then the translation.
+  const tightbvh::Pose parsed = tightbvh::parse_pose("1 0 0  0 1 0  0 0 1  0.1 0 0");
+
+  // Do they touch? first_hit stops at the first touching triangle pair.
+  const tightbvh::QueryResult touch = tightbvh::collide(tree_a, mesh_a, pose_a, tree_b, mesh_b, pose_b);
+  // Which triangles touch? all_pairs reports every pair, sorted and unique.
+  const tightbvh::QueryResult all = tightbvh::collide(tree_a, mesh_a, pose_a, tree_b, mesh_b, parsed,
+                                                      {.mode = tightbvh::QueryMode::all_pairs});
+  // Which pairs are closer than 0.01? A safety margin.
+  const tightbvh::QueryResult near = tightbvh::collide(tree_a, mesh_a, pose_a, tree_b, mesh_b, parsed,
+                                                       {.mode = tightbvh::QueryMode::all_pairs, .margin = 0.01});
+  std::printf("touch: %s, touching pairs: %zu, pairs within 0.01: %zu\n", touch.hit ? "yes" : "no",
+              all.pairs.size(), near.pairs.size());
+
+  // How far apart, and where? Within 5%, and not beyond 1.0 (then it stops early).
+  pose_b.translation = tightbvh::Vec3(1.2, 0.0, 0.0);
+  const tightbvh::DistanceResult gap = tightbvh::distance(tree_a, mesh_a, pose_a, tree_b, mesh_b, pose_b,
+                                                          {.relative_error = 0.05, .upper_bound = 1.0});
+  if (gap.beyond_upper_bound)
+    std::printf("distance: at least %.3f\n", gap.distance);
+  else
+    std::printf("distance: %.4f between triangles %u and %u\n", gap.distance, gap.pair.a, gap.pair.b);
+
+  // Many poses: one workspace per thread (no allocation per query), or one batch on all cores.
+  std::vector<tightbvh::Pose> poses(64);
+  for (std::size_t i = 0; i < poses.size(); ++i) poses[i].translation = tightbvh::Vec3(0.02 * i, 0.0, 0.0);
+  tightbvh::QueryWorkspace workspace;
+  std::size_t hits = 0;
+  for (const tightbvh::Pose& p : poses)
+    hits += tightbvh::collide(tree_a, mesh_a, pose_a, tree_b, mesh_b, p, {}, workspace).hit ? 1 : 0;
+  const std::vector<tightbvh::QueryResult> batch =
+      tightbvh::collide_batch(tree_a, mesh_a, pose_a, tree_b, mesh_b, poses, {}, /*threads=*/0);
+
+  // A coherent sequence (consecutive poses close): the cache starts where the last query stopped.
+  tightbvh::QueryCache cache;
+  std::size_t cached_pairs = 0;
+  for (const tightbvh::Pose& p : poses)
+    cached_pairs += tightbvh::collide(tree_a, mesh_a, pose_a, tree_b, mesh_b, p,
+                                      {.mode = tightbvh::QueryMode::all_pairs}, cache)
+                        .pairs.size();
+  std::printf("%zu of %zu poses hit (batch: %zu results), %zu pairs along the sequence\n", hits, poses.size(),
+              batch.size(), cached_pairs);
+  return 0;
+}

@@ -7,54 +7,26 @@
 //   build/bin/tightbvh-scene-bench --benchmark_filter=Frame
 #include <benchmark/benchmark.h>
 
-#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
 #include "tightbvh/model.hpp"
 #include "tightbvh/scene.hpp"
+#include "scene/scene_fixtures.hpp"  // uv_sphere, random_pose: the scene tests' shapes and poses
 
 namespace {
 
 using namespace tightbvh;
-
-Mesh sphere(int rings, int sectors, double radius) {
-  Mesh m;
-  m.vertices.push_back(Vec3(0, 0, radius));
-  for (int r = 1; r < rings; ++r)
-    for (int s = 0; s < sectors; ++s) {
-      const double th = M_PI * r / rings, ph = 2 * M_PI * s / sectors;
-      m.vertices.push_back(radius * Vec3(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)));
-    }
-  m.vertices.push_back(Vec3(0, 0, -radius));
-  const auto ring = [&](int r, int s) { return static_cast<std::uint32_t>(1 + (r - 1) * sectors + (s % sectors)); };
-  const auto south = static_cast<std::uint32_t>(m.vertices.size() - 1);
-  for (int s = 0; s < sectors; ++s) {
-    m.triangles.push_back({0, ring(1, s), ring(1, s + 1)});
-    for (int r = 1; r + 1 < rings; ++r) {
-      m.triangles.push_back({ring(r, s), ring(r + 1, s), ring(r + 1, s + 1)});
-      m.triangles.push_back({ring(r, s), ring(r + 1, s + 1), ring(r, s + 1)});
-    }
-    m.triangles.push_back({ring(rings - 1, s), south, ring(rings - 1, s + 1)});
-  }
-  return m;
-}
-
-Pose random_pose(std::mt19937_64& rng, double extent) {
-  std::uniform_real_distribution<double> u(0.0, extent);
-  std::normal_distribution<double> n;
-  Pose p;
-  p.rotation = Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized().toRotationMatrix();
-  p.translation = Vec3(u(rng), u(rng), u(rng));
-  return p;
-}
+using query_test::uv_sphere;
+using scene_test::random_pose;
 
 void BM_Frame(benchmark::State& state) {
   const auto objects = static_cast<std::size_t>(state.range(0));
   const double moved_fraction = static_cast<double>(state.range(1)) / 100.0;
   std::vector<ModelPtr> models;
-  for (int i = 0; i < 10; ++i) models.push_back(make_model(sphere(6 + i, 8 + i, 0.5)));
+  for (int i = 0; i < 10; ++i) models.push_back(make_model(uv_sphere(6 + i, 8 + i, 0.5)));
   // About 3 objects of diameter 1 per cube of side 2.
   const double extent = 2.0 * std::cbrt(static_cast<double>(objects) / 3.0);
   std::mt19937_64 rng(1);

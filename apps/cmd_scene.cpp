@@ -104,6 +104,7 @@ void add_scene_command(CLI::App& app) {
   cmd->add_option("--threads", args->threads, "query threads (0: all cores)")->capture_default_str();
   cmd->add_flag("--json", args->json,
                 "print JSON: {\"pairs\": [[name_a, name_b], ...], \"frames\": [{\"pairs\": ...}, ...]}");
+  cmd->footer("Example:\n  tightbvh scene examples/scenes/workcell.json --distance 0.05");
   cmd->callback([args] { run_scene(*args); });
 }
 

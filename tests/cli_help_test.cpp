@@ -1,5 +1,5 @@
 // Every `tightbvh` subcommand's --help ends with one example, and the example runs as printed
-// (from a folder where meshes/ is the shipped meshes, so that its output files land in a
+// (from a folder where meshes/ and examples/ are the shipped ones, so that its output files land in a
 // temporary folder); bad input names the file, line or argument at fault.
 #include <gtest/gtest.h>
 
@@ -28,6 +28,7 @@ class CliHelp : public ::testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     fs::create_directory_symlink(kSource / "meshes", dir_ / "meshes");
+    fs::create_directory_symlink(kSource / "examples", dir_ / "examples");  // the scene files
     previous_ = fs::current_path();
     fs::current_path(dir_);
   }
@@ -50,9 +51,26 @@ std::string example_of(const std::string& help) {
   return line.rfind(prefix, 0) == 0 ? line.substr(prefix.size()) : "";
 }
 
+// The subcommands `tightbvh --help` lists (the lines below "Subcommands:"), in its order.
+std::vector<std::string> listed_subcommands() {
+  const std::string help = test::run_cli("--help").out;
+  std::vector<std::string> names;
+  std::size_t line = help.find("\nSubcommands:\n");
+  if (line == std::string::npos) return names;
+  line = help.find('\n', line + 1) + 1;
+  while (line < help.size() && help.compare(line, 2, "  ") == 0) {
+    const std::size_t end = help.find(' ', line + 2);
+    names.push_back(help.substr(line + 2, end - line - 2));
+    line = help.find('\n', line) + 1;
+  }
+  return names;
+}
+
 TEST_F(CliHelp, EverySubcommandShowsAnExampleThatRuns) {
   // In this order: inspect reads the tree that build's example writes.
-  for (const std::string command : {"info", "fit", "build", "inspect", "collide", "distance", "view"}) {
+  const std::vector<std::string> commands{"info", "fit", "build", "inspect", "collide", "distance", "view", "scene"};
+  ASSERT_EQ(commands, listed_subcommands()) << "a subcommand was added: give it an example and list it here";
+  for (const std::string& command : commands) {
     SCOPED_TRACE(command);
     const CliRun help = test::run_cli(command + " --help");
     ASSERT_EQ(help.status, 0) << help.err;

@@ -4,10 +4,14 @@
 // ObjectIds stay inside.
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <limits>
 #include <optional>
+#include <set>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -15,8 +19,10 @@
 
 #include "arrays.hpp"
 #include "bindings.hpp"
+#include "state.hpp"
 #include "tightbvh/model.hpp"
 #include "tightbvh/scene.hpp"
+#include "tightbvh/serialize.hpp"
 #include "tightbvh/tri_distance.hpp"
 
 namespace tightbvh::python {
@@ -55,6 +61,32 @@ PyModel make_py_model(py::handle source, const std::string& fitter, const std::s
   return result;
 }
 
+// State: (the Mesh, the tree format's bytes (serialize.hpp), the fitter name or None); the tree is
+// checked against the mesh again on the way in (Model(Mesh, Tree)).
+py::object model_state(const PyModel& p) {
+  std::vector<std::byte> bytes;
+  {
+    const py::gil_scoped_release release;
+    bytes = serialize(p.model->tree());
+  }
+  return py::make_tuple(py::cast(model_mesh(p.model)), py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
+                        p.fitter ? py::object(py::str(*p.fitter)) : py::none());
+}
+
+PyModel model_from_state(const py::object& state) {
+  const py::tuple f = state_tuple(state, 3, "Model");
+  if (!py::isinstance<Mesh>(f[0])) throw py::type_error("Model.__setstate__: the mesh must be a Mesh");
+  if (!py::isinstance<py::bytes>(f[1])) throw py::type_error("Model.__setstate__: the tree must be bytes");
+  PyModel result;
+  if (!f[2].is_none()) result.fitter = state_string(f[2], "Model.__setstate__: fitter");
+  Mesh mesh = f[0].cast<const Mesh&>();
+  const std::string bytes = f[1].cast<std::string>();
+  const py::gil_scoped_release release;
+  Tree tree = deserialize(std::as_bytes(std::span(bytes.data(), bytes.size())), "Model.__setstate__");
+  result.model = make_model(std::move(mesh), std::move(tree));  // InputError unless the tree fits the mesh
+  return result;
+}
+
 // A touching triangle pair of two objects (trimesh's ContactData, without normal and depth).
 struct PyContact {
   std::string name_a, name_b;
@@ -69,6 +101,38 @@ struct PyDistanceData {
   Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero();
   double distance = 0.0;
 };
+
+// State: (name_a, name_b, triangle_a, triangle_b, point).
+py::object contact_state(const PyContact& c) {
+  return py::make_tuple(c.name_a, c.name_b, c.triangle_a, c.triangle_b, vec3_state(c.point));
+}
+
+PyContact contact_from_state(const py::object& state) {
+  const py::tuple f = state_tuple(state, 5, "ContactData");
+  const std::string what = "ContactData.__setstate__";
+  return {state_string(f[0], what + ": name_a"), state_string(f[1], what + ": name_b"),
+          static_cast<std::uint32_t>(state_count(f[2], what + ": triangle_a", 0xFFFFFFFFu)),
+          static_cast<std::uint32_t>(state_count(f[3], what + ": triangle_b", 0xFFFFFFFFu)),
+          state_vec3(f[4], what + ": point")};
+}
+
+// State: (name_a, name_b, triangle_a, triangle_b, point_a, point_b, distance).
+py::object distance_data_state(const PyDistanceData& d) {
+  return py::make_tuple(d.name_a, d.name_b, d.triangle_a, d.triangle_b, vec3_state(d.point_a), vec3_state(d.point_b),
+                        d.distance);
+}
+
+PyDistanceData distance_data_from_state(const py::object& state) {
+  const py::tuple f = state_tuple(state, 7, "DistanceData");
+  const std::string what = "DistanceData.__setstate__";
+  return {state_string(f[0], what + ": name_a"),
+          state_string(f[1], what + ": name_b"),
+          static_cast<std::uint32_t>(state_count(f[2], what + ": triangle_a", 0xFFFFFFFFu)),
+          static_cast<std::uint32_t>(state_count(f[3], what + ": triangle_b", 0xFFFFFFFFu)),
+          state_vec3(f[4], what + ": point_a"),
+          state_vec3(f[5], what + ": point_b"),
+          state_real(f[6], what + ": distance")};
+}
 
 py::set name_set(const std::string& a, const std::string& b) {
   py::set s;
@@ -140,10 +204,14 @@ class PyScene {
     const ObjectId ia = id_of(a, allowed ? "allow" : "disallow");
     const ObjectId ib = id_of(b, allowed ? "allow" : "disallow");
     if (ia == ib) throw py::value_error(std::string(allowed ? "allow" : "disallow") + ": the same object twice");
-    if (allowed)
+    const std::string na = scene_.object(ia).name, nb = scene_.object(ib).name;
+    if (allowed) {
       scene_.allow(ia, ib);
-    else
+      allowed_.insert(std::minmax(na, nb));
+    } else {
       scene_.disallow(ia, ib);
+      allowed_.erase(std::minmax(na, nb));
+    }
   }
 
   bool is_allowed(py::handle a, py::handle b) const {
@@ -285,6 +353,44 @@ class PyScene {
 
   PyModel model(py::handle name) const { return {scene_.object(id_of(name, "model")).model, std::nullopt}; }
 
+  // State: (threads, solid, objects: ((name, Model, 4x4 transform), ...) in id order, allowed:
+  // ((name, name), ...)). A model shared by objects is one Python object in the state, so it
+  // stays shared. The mesh cache is not part of it: after unpickling, adding an original mesh
+  // object again builds its model again.
+  py::object state() const {
+    std::unordered_map<const Model*, py::object> models;
+    py::list objects;
+    for (const ObjectId id : scene_.ids()) {
+      const SceneObject& o = scene_.object(id);
+      auto [it, added] = models.try_emplace(o.model.get());
+      if (added) it->second = py::cast(PyModel{o.model, std::nullopt});
+      objects.append(py::make_tuple(o.name, it->second, transform(py::str(o.name))));
+    }
+    py::list allowed;
+    for (const auto& [a, b] : allowed_) allowed.append(py::make_tuple(a, b));
+    return py::make_tuple(threads_, solid_, py::tuple(objects), py::tuple(allowed));
+  }
+
+  static PyScene from_state(const py::object& state) {
+    const py::tuple f = state_tuple(state, 4, "Scene");
+    const std::string what = "Scene.__setstate__";
+    PyScene result(f[0], state_bool(f[1], what + ": solid"));
+    if (!py::isinstance<py::tuple>(f[2]) || !py::isinstance<py::tuple>(f[3]))
+      throw py::type_error(what + ": objects and allowed must be tuples");
+    for (const py::handle object : py::reinterpret_borrow<py::tuple>(f[2])) {
+      const py::tuple o = state_tuple(object, 3, "Scene object");
+      const std::string name = state_string(o[0], what + ": name");
+      if (!py::isinstance<PyModel>(o[1])) throw py::type_error(what + ": '" + name + "': the model must be a Model");
+      if (result.scene_.find(name)) throw py::value_error(what + ": duplicate name '" + name + "'");
+      result.scene_.add(o[1].cast<const PyModel&>().model, to_pose(o[2], what + ": '" + name + "': transform"), name);
+    }
+    for (const py::handle pair : py::reinterpret_borrow<py::tuple>(f[3])) {
+      const py::tuple p = state_tuple(pair, 2, "Scene allowed pair");
+      result.allow(p[0], p[1], true);
+    }
+    return result;
+  }
+
   std::size_t size() const { return scene_.size(); }
   std::size_t model_count() const { return scene_.model_count(); }
   std::size_t model_bytes() const { return scene_.model_bytes(); }
@@ -321,7 +427,9 @@ class PyScene {
   }
 
   void remove(ObjectId id) {
+    const std::string name = scene_.object(id).name;
     scene_.remove(id);
+    std::erase_if(allowed_, [&](const auto& pair) { return pair.first == name || pair.second == name; });
     const auto key = keys_.find(id);
     if (key == keys_.end()) return;
     release(key->second);
@@ -388,6 +496,7 @@ class PyScene {
   py::dict query_cache_;  // the same for query meshes (in_collision_single, ...)
   std::unordered_map<ObjectId, std::uintptr_t> keys_;  // object -> its mesh's cache key
   std::unordered_map<std::uintptr_t, std::size_t> uses_;  // cache key -> objects using it
+  std::set<std::pair<std::string, std::string>> allowed_;  // the allowed pairs by name, each sorted
 };
 
 }  // namespace
@@ -417,6 +526,8 @@ void bind_scene(py::module_& m) {
       .def("__eq__", [](const PyModel& a, const PyModel& b) { return a.model == b.model; },
            "the same model (not merely equal meshes)")
       .def("__hash__", [](const PyModel& p) { return std::hash<const Model*>{}(p.model.get()); })
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle(&model_state, &model_from_state))
       .def("__repr__", [](const PyModel& p) {
         return "<tightbvh.Model: " + std::to_string(p.model->mesh().triangles.size()) + " triangles, " +
                std::to_string(p.model->tree().nodes.size()) + " nodes>";
@@ -437,6 +548,8 @@ void bind_scene(py::module_& m) {
             throw py::key_error(name);
           },
           py::arg("name"), "the touching triangle of the object `name`")
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle(&contact_state, &contact_from_state))
       .def("__repr__", [](const PyContact& c) {
         return "<tightbvh.ContactData " + c.name_a + "[" + std::to_string(c.triangle_a) + "] " + c.name_b + "[" +
                std::to_string(c.triangle_b) + "]>";
@@ -463,6 +576,8 @@ void bind_scene(py::module_& m) {
             throw py::key_error(name);
           },
           py::arg("name"), "the closest point (world frame) on the object `name`")
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle(&distance_data_state, &distance_data_from_state))
       .def("__repr__", [](const PyDistanceData& d) {
         return "<tightbvh.DistanceData " + d.name_a + " " + d.name_b + " distance=" + std::to_string(d.distance) + ">";
       });
@@ -470,7 +585,8 @@ void bind_scene(py::module_& m) {
   py::class_<PyScene>(m, "Scene",
                       "Named posed meshes in one broad phase (scene.hpp), with the methods of "
                       "trimesh.collision.CollisionManager. A mesh object added twice is built once (one Model). "
-                      "Do not change a scene while another thread queries it.")
+                      "Do not change a scene while another thread queries it. Pickles and copies (models stay "
+                      "shared within the copy).")
       .def(py::init<py::handle, bool>(), py::arg("threads") = 1, py::arg("solid") = false,
            "threads: the narrow phase's threads for the queries (0: all cores). solid: closed meshes as solids "
            "(an object wholly inside another touches it, at distance 0; open meshes are a ValueError), as "
@@ -522,6 +638,8 @@ void bind_scene(py::module_& m) {
       .def_property_readonly("model_bytes", &PyScene::model_bytes, "the heap bytes of the distinct models")
       .def_property_readonly("threads", &PyScene::threads)
       .def_property_readonly("solid", &PyScene::solid)
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle([](const PyScene& s) { return s.state(); }, &PyScene::from_state))
       .def("__len__", &PyScene::size)
       .def("__contains__", &PyScene::contains)
       .def("__repr__", [](const PyScene& s) {

@@ -362,3 +362,56 @@ def test_solid_scene_reports_an_object_inside_another():
     open_scene.add_object("b", box())
     with pytest.raises(ValueError):
         open_scene.in_collision_internal()
+
+
+def test_scene_model_and_data_pickle_and_copy():
+    import copy
+    import pickle
+
+    scene, _, _ = random_scene(9)
+    names = scene.in_collision_internal(return_names=True)[1]
+    a, b = sorted(names)[0]
+    scene.allow(a, b)
+    for clone in (pickle.loads(pickle.dumps(scene)), copy.deepcopy(scene), copy.copy(scene)):
+        assert clone.names == scene.names and clone.model_count == scene.model_count == 3
+        assert clone.allowed(a, b) and clone.threads == scene.threads and clone.solid == scene.solid
+        assert clone.in_collision_internal(return_names=True, return_data=True)[1] == names - {(a, b)}
+        assert clone.min_distance_internal(return_names=True) == scene.min_distance_internal(return_names=True)
+        assert all(np.array_equal(clone.transform(n), scene.transform(n)) for n in scene.names)
+    model = tightbvh.Model(tet(), fitter="pca")
+    back = pickle.loads(pickle.dumps(model))
+    assert back.fitter == "pca" and np.array_equal(back.mesh.vertices, model.mesh.vertices)
+    assert back.tree.nodes()["half_extents"].tolist() == model.tree.nodes()["half_extents"].tolist()
+    _, _, contacts = scene.in_collision_internal(return_names=True, return_data=True)
+    contact = pickle.loads(pickle.dumps(contacts[0]))
+    assert contact.names == contacts[0].names and contact.point.tolist() == contacts[0].point.tolist()
+    assert contact.triangles == contacts[0].triangles
+    _, data = scene.min_distance_single(tet(), pose_matrix(np.eye(3), [9.0, 0, 0]), return_data=True)
+    back = pickle.loads(pickle.dumps(data))
+    assert back.names == data.names and back.distance == data.distance and back.index("__external") == data.index(
+        "__external")
+
+
+def test_malformed_scene_states_are_errors():
+    model = tightbvh.Model(tet())
+    good = (1, False, (("a", model, np.eye(4)),), ())
+    scene = tightbvh.Scene.__new__(tightbvh.Scene)
+    scene.__setstate__(good)
+    assert scene.names == ["a"]
+    bad_pose = np.eye(4)
+    bad_pose[0, 0] = 3.0
+    cases = [
+        ((1, False, (("a", model, np.eye(4)), ("a", model, np.eye(4))), ()), ValueError, "duplicate name 'a'"),
+        ((1, False, (("a", "model", np.eye(4)),), ()), TypeError, "must be a Model"),
+        ((1, False, (("a", model, bad_pose),), ()), ValueError, "transform"),
+        ((1, False, (("a", model, np.eye(4)),), (("a", "x"),)), ValueError, "'x' not in the scene"),
+        ((1, False, ()), ValueError, "expected 4 fields"),
+    ]
+    for state, error, message in cases:
+        with pytest.raises(error, match=message):
+            tightbvh.Scene.__new__(tightbvh.Scene).__setstate__(state)
+    with pytest.raises(ValueError):
+        tightbvh.Model.__new__(tightbvh.Model).__setstate__((model.mesh, b"not a tree", None))
+    with pytest.raises(ValueError, match="not a tree of this mesh|tree"):
+        tightbvh.Model.__new__(tightbvh.Model).__setstate__(
+            (tightbvh.as_mesh(box()), model.__getstate__()[1], None))

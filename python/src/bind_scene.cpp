@@ -94,10 +94,11 @@ struct PyContact {
   Vec3 point = Vec3::Zero();
 };
 
-// The closest points of two objects (trimesh's DistanceData).
+// The closest points of two objects (trimesh's DistanceData). No triangles when the distance is a
+// solid's containment (Scene(solid=True): one object inside the other).
 struct PyDistanceData {
   std::string name_a, name_b;
-  std::uint32_t triangle_a = 0, triangle_b = 0;
+  std::optional<std::uint32_t> triangle_a, triangle_b;
   Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero();
   double distance = 0.0;
 };
@@ -116,9 +117,15 @@ PyContact contact_from_state(const py::object& state) {
           state_vec3(f[4], what + ": point")};
 }
 
-// State: (name_a, name_b, triangle_a, triangle_b, point_a, point_b, distance).
+// A triangle of the state, or None.
+std::optional<std::uint32_t> state_triangle(py::handle value, const std::string& what) {
+  if (value.is_none()) return std::nullopt;
+  return static_cast<std::uint32_t>(state_count(value, what, 0xFFFFFFFFu));
+}
+
+// State: (name_a, name_b, triangle_a or None, triangle_b or None, point_a, point_b, distance).
 py::object distance_data_state(const PyDistanceData& d) {
-  return py::make_tuple(d.name_a, d.name_b, d.triangle_a, d.triangle_b, vec3_state(d.point_a), vec3_state(d.point_b),
+  return py::make_tuple(d.name_a, d.name_b, py::cast(d.triangle_a), py::cast(d.triangle_b), vec3_state(d.point_a), vec3_state(d.point_b),
                         d.distance);
 }
 
@@ -127,8 +134,8 @@ PyDistanceData distance_data_from_state(const py::object& state) {
   const std::string what = "DistanceData.__setstate__";
   return {state_string(f[0], what + ": name_a"),
           state_string(f[1], what + ": name_b"),
-          static_cast<std::uint32_t>(state_count(f[2], what + ": triangle_a", 0xFFFFFFFFu)),
-          static_cast<std::uint32_t>(state_count(f[3], what + ": triangle_b", 0xFFFFFFFFu)),
+          state_triangle(f[2], what + ": triangle_a"),
+          state_triangle(f[3], what + ": triangle_b"),
           state_vec3(f[4], what + ": point_a"),
           state_vec3(f[5], what + ": point_b"),
           state_real(f[6], what + ": distance")};
@@ -484,7 +491,12 @@ class PyScene {
   }
 
   static py::object distance_data(const std::string& a, const std::string& b, const DistanceResult& r) {
-    return py::cast(PyDistanceData{a, b, r.pair.a, r.pair.b, r.point_a, r.point_b, r.distance});
+    PyDistanceData d{a, b, std::nullopt, std::nullopt, r.point_a, r.point_b, r.distance};
+    if (r.inside == Inside::none) {
+      d.triangle_a = r.pair.a;
+      d.triangle_b = r.pair.b;
+    }
+    return py::cast(std::move(d));
   }
 
   static constexpr std::size_t kQueryCache = 16;
@@ -567,7 +579,7 @@ void bind_scene(py::module_& m) {
             if (name == d.name_b) return d.triangle_b;
             throw py::key_error(name);
           },
-          py::arg("name"), "the closest triangle of the object `name`")
+          py::arg("name"), "the closest triangle of the object `name` (None for a solid's containment)")
       .def(
           "point",
           [](const PyDistanceData& d, const std::string& name) {

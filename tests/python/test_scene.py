@@ -4,6 +4,7 @@ switch example, and trimesh itself when it is importable."""
 import itertools
 import math
 import os
+import pickle
 import subprocess
 import sys
 import types
@@ -354,6 +355,10 @@ def test_solid_scene_reports_an_object_inside_another():
     assert surfaces.in_collision_internal() is False and surfaces.min_distance_internal() > 0.3
     assert solids.in_collision_internal(return_names=True) == (True, {("big", "small")})
     assert solids.min_distance_internal() == 0.0
+    data = solids.min_distance_internal(return_data=True)[1]  # a containment: no triangle pair
+    assert data.distance == 0.0 and data.index("big") is None and data.index("small") is None
+    assert pickle.loads(pickle.dumps(data)).index("small") is None
+    assert surfaces.min_distance_internal(return_data=True)[1].index("small") is not None
     inner = pose_matrix(np.eye(3), [0.1, 0.1, 0.1])  # inside "big", away from "small"
     assert solids.in_collision_single(box((0.1, 0.1, 0.1)), inner, return_names=True) == (True, {"big"})
     assert surfaces.in_collision_single(box((0.1, 0.1, 0.1)), inner) is False
@@ -366,7 +371,6 @@ def test_solid_scene_reports_an_object_inside_another():
 
 def test_scene_model_and_data_pickle_and_copy():
     import copy
-    import pickle
 
     scene, _, _ = random_scene(9)
     names = scene.in_collision_internal(return_names=True)[1]

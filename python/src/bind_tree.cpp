@@ -72,31 +72,6 @@ std::uint64_t bounded(py::handle value, const char* name, long long low, long lo
   return static_cast<std::uint64_t>(v);
 }
 
-BuildOptions build_options(const std::string& fitter, const std::string& split, py::handle leaf_size,
-                           py::handle threads, py::handle grid, py::handle epsilon, bool improve) {
-  BuildOptions options;
-  const auto parsed_fitter = parse_fitter(fitter);
-  if (!parsed_fitter) throw py::value_error("fitter: unknown fitter '" + fitter + "' (see fitter_names())");
-  options.fitter = *parsed_fitter;
-  const auto parsed_split = parse_split_method(split);
-  if (!parsed_split) throw py::value_error("split: unknown split '" + split + "' (see split_names())");
-  options.split = *parsed_split;
-  options.leaf_size = static_cast<std::uint32_t>(bounded(leaf_size, "leaf_size", 1, 0xFFFFFFFFLL));
-  options.threads = static_cast<unsigned>(bounded(threads, "threads", 0, 4096));
-  if (!grid.is_none() && !epsilon.is_none()) throw py::value_error("grid and epsilon exclude each other");
-  if (!grid.is_none()) options.fit.grid = static_cast<int>(bounded(grid, "grid", 1, 64));
-  if (!epsilon.is_none()) {
-    if (py::isinstance<py::bool_>(epsilon) ||
-        !(py::isinstance<py::float_>(epsilon) || py::isinstance<py::int_>(epsilon)))
-      throw py::type_error("epsilon: expected a number");
-    const double e = epsilon.cast<double>();
-    if (!(e > 0.0) || !std::isfinite(e)) throw py::value_error("epsilon: must be a positive finite number");
-    options.fit.epsilon = e;
-  }
-  options.fit.improve = improve;
-  return options;
-}
-
 PyTree build_tree(py::handle mesh_object, const std::string& fitter, const std::string& split, py::handle leaf_size,
                   py::handle threads, py::handle grid, py::handle epsilon, bool improve) {
   const BuildOptions options = build_options(fitter, split, leaf_size, threads, grid, epsilon, improve);
@@ -258,6 +233,31 @@ void bind_tree_class(py::module_& m) {
 }
 
 }  // namespace
+
+BuildOptions build_options(const std::string& fitter, const std::string& split, py::handle leaf_size,
+                           py::handle threads, py::handle grid, py::handle epsilon, bool improve) {
+  BuildOptions options;
+  const auto parsed_fitter = parse_fitter(fitter);
+  if (!parsed_fitter) throw py::value_error("fitter: unknown fitter '" + fitter + "' (see fitter_names())");
+  options.fitter = *parsed_fitter;
+  const auto parsed_split = parse_split_method(split);
+  if (!parsed_split) throw py::value_error("split: unknown split '" + split + "' (see split_names())");
+  options.split = *parsed_split;
+  options.leaf_size = static_cast<std::uint32_t>(bounded(leaf_size, "leaf_size", 1, 0xFFFFFFFFLL));
+  options.threads = static_cast<unsigned>(bounded(threads, "threads", 0, 4096));
+  if (!grid.is_none() && !epsilon.is_none()) throw py::value_error("grid and epsilon exclude each other");
+  if (!grid.is_none()) options.fit.grid = static_cast<int>(bounded(grid, "grid", 1, 64));
+  if (!epsilon.is_none()) {
+    if (py::isinstance<py::bool_>(epsilon) ||
+        !(py::isinstance<py::float_>(epsilon) || py::isinstance<py::int_>(epsilon)))
+      throw py::type_error("epsilon: expected a number");
+    const double e = epsilon.cast<double>();
+    if (!(e > 0.0) || !std::isfinite(e)) throw py::value_error("epsilon: must be a positive finite number");
+    options.fit.epsilon = e;
+  }
+  options.fit.improve = improve;
+  return options;
+}
 
 std::shared_ptr<const Mesh> mesh_for(const PyTree& tree, py::handle mesh, const std::string& name) {
   if (!mesh.is_none()) return to_mesh(mesh, name);

@@ -27,10 +27,15 @@ struct PyTree {
 // None. Throws TypeError naming `name` when neither exists.
 [[nodiscard]] std::shared_ptr<const Mesh> mesh_for(const PyTree& tree, py::handle mesh, const std::string& name);
 
+// BuildOptions from tightbvh.build's keyword arguments (ValueError/TypeError naming the argument).
+[[nodiscard]] BuildOptions build_options(const std::string& fitter, const std::string& split, py::handle leaf_size,
+                                         py::handle threads, py::handle grid, py::handle epsilon, bool improve);
+
 void bind_mesh(py::module_& m);
 void bind_fit(py::module_& m);
 void bind_tree(py::module_& m);
 void bind_collide(py::module_& m);
 void bind_distance(py::module_& m);
+void bind_scene(py::module_& m);
 
 }  // namespace tightbvh::python

@@ -23,4 +23,5 @@ PYBIND11_MODULE(_tightbvh, m) {
   tightbvh::python::bind_tree(m);
   tightbvh::python::bind_collide(m);
   tightbvh::python::bind_distance(m);
+  tightbvh::python::bind_scene(m);
 }

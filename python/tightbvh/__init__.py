@@ -10,15 +10,20 @@ Bad input raises ValueError or TypeError naming the argument.
     box = tightbvh.fit(a.vertices, method="exact")
     result = tightbvh.collide(tree_a, a, None, tree_b, b, pose_b, all_pairs=True)
     gap = tightbvh.distance(tree_a, a, None, tree_b, b, pose_b)  # .distance, .point_a, .point_b
+    scene = tightbvh.Scene()  # the methods of trimesh.collision.CollisionManager
 """
 from ._tightbvh import (
     Ball,
     Box,
+    ContactData,
     Distance,
+    DistanceData,
     Dop,
     Ellipsoid,
     Mesh,
+    Model,
     Result,
+    Scene,
     Tree,
     TreeCheck,
     __version__,
@@ -41,11 +46,15 @@ from ._tightbvh import (
 __all__ = [
     "Ball",
     "Box",
+    "ContactData",
     "Distance",
+    "DistanceData",
     "Dop",
     "Ellipsoid",
     "Mesh",
+    "Model",
     "Result",
+    "Scene",
     "Tree",
     "TreeCheck",
     "as_mesh",

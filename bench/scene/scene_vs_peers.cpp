@@ -9,6 +9,10 @@
 // one check is one self-collision of the unchanged scene (checks/s); with frames, one repetition
 // runs every frame: the moves (set_poses; setTransform + computeAABB + update; setWorldTransform)
 // and the self-collision that follows (frames/s).
+//
+//     tightbvh-scene-vs-peers --scene out/scenes/a-touching.json [--json OUT] [--reps N] [--engines tightbvh,fcl]
+//
+// Exit status 1 when tightbvh's pairs differ from brute force, 2 on bad input.
 #include <btBulletCollisionCommon.h>
 #include <BulletCollision/Gimpact/btGImpactCollisionAlgorithm.h>
 #include <BulletCollision/Gimpact/btGImpactShape.h>
@@ -446,8 +450,10 @@ int run(int argc, char** argv) {
                            {"mismatches", r.mismatches}});
   }
   if (!json_path.empty()) std::ofstream(json_path) << out.dump(1) << "\n";
+  // Our answers must equal brute force; a peer's mismatches are reported in its row (Bullet's
+  // GImpact reports a few contacts at distance <= 0 for pairs that do not touch exactly).
   for (const Row& r : rows)
-    if (r.mismatches != 0) return 1;
+    if (r.engine == "tightbvh" && r.mismatches != 0) return 1;
   return 0;
 }
 

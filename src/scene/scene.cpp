@@ -143,6 +143,14 @@ std::vector<Result> run_jobs(std::size_t count, unsigned threads, Fn&& fn) {
   std::vector<Result> results(count);
   if (count == 0) return results;
   threads = resolve_threads(threads, count);
+  if (threads == 1) {
+    // One workspace per calling thread, kept across queries: a fresh one sizes its box cache to
+    // B's node count (QueryWorkspace::mapped_b) in every pair query of every scene query, which
+    // costs more than the descent of a near-miss pair.
+    thread_local QueryWorkspace workspace;
+    for (std::size_t i = 0; i < count; ++i) results[i] = fn(i, workspace);
+    return results;
+  }
   detail::WorkerPool<QueryWorkspace> pool(threads);
   const std::size_t chunk = std::clamp<std::size_t>(count / (16 * std::size_t{threads}), 1, 64);
   pool.run(count, [&](std::size_t i, QueryWorkspace& workspace) { results[i] = fn(i, workspace); }, chunk);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -30,6 +31,29 @@ std::uint64_t pair_key(ObjectId a, ObjectId b) {
   return (std::uint64_t{a} << 32) | b;
 }
 
+// The narrow phase's scratch, kept between a scene's queries: a fresh QueryWorkspace sizes its
+// box cache to B's node count (QueryWorkspace::mapped_b), which costs more than the descent of a
+// near-miss pair, once per scene query. A query takes a workspace and gives it back; queries
+// running at once each get their own.
+class WorkspacePool {
+ public:
+  [[nodiscard]] std::unique_ptr<QueryWorkspace> take() {
+    const std::lock_guard lock(mutex_);
+    if (free_.empty()) return std::make_unique<QueryWorkspace>();
+    std::unique_ptr<QueryWorkspace> workspace = std::move(free_.back());
+    free_.pop_back();
+    return workspace;
+  }
+  void give(std::unique_ptr<QueryWorkspace> workspace) {
+    const std::lock_guard lock(mutex_);
+    free_.push_back(std::move(workspace));
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<QueryWorkspace>> free_;
+};
+
 struct State {
   std::vector<Slot> slots;
   std::unordered_map<ObjectId, std::uint32_t> index;  // id -> slot
@@ -46,6 +70,7 @@ struct State {
   mutable std::uint64_t rebuilds = 0;
   mutable std::uint64_t refits = 0;
   mutable double built_cost = 0.0;
+  mutable WorkspacePool workspaces;  // not copied: scratch only
 
   State() = default;
   State(const State& o)
@@ -98,6 +123,7 @@ using scene_detail::Access;
 using scene_detail::Slot;
 using scene_detail::State;
 using scene_detail::TopTree;
+using scene_detail::WorkspacePool;
 
 // ------------------------------------------------------------------ poses and boxes
 
@@ -137,18 +163,17 @@ unsigned resolve_threads(unsigned threads, std::size_t jobs) {
   return static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(jobs, 1)));
 }
 
-// results[i] = fn(i, workspace) for i in [0, count) on `threads` threads; order independent.
+// results[i] = fn(i, workspace) for i in [0, count) on `threads` threads; order independent. One
+// thread uses a workspace of `workspaces` (kept between queries); more threads have their own.
 template <class Result, class Fn>
-std::vector<Result> run_jobs(std::size_t count, unsigned threads, Fn&& fn) {
+std::vector<Result> run_jobs(std::size_t count, unsigned threads, WorkspacePool& workspaces, Fn&& fn) {
   std::vector<Result> results(count);
   if (count == 0) return results;
   threads = resolve_threads(threads, count);
   if (threads == 1) {
-    // One workspace per calling thread, kept across queries: a fresh one sizes its box cache to
-    // B's node count (QueryWorkspace::mapped_b) in every pair query of every scene query, which
-    // costs more than the descent of a near-miss pair.
-    thread_local QueryWorkspace workspace;
-    for (std::size_t i = 0; i < count; ++i) results[i] = fn(i, workspace);
+    std::unique_ptr<QueryWorkspace> workspace = workspaces.take();
+    for (std::size_t i = 0; i < count; ++i) results[i] = fn(i, *workspace);
+    workspaces.give(std::move(workspace));  // not on an exception: the next query makes a new one
     return results;
   }
   detail::WorkerPool<QueryWorkspace> pool(threads);
@@ -233,9 +258,10 @@ std::vector<Job> single_jobs(const State& s, const Aabb& query, double gap) {
   return jobs;
 }
 
-std::vector<ObjectPairHit> collide_jobs(const std::vector<Job>& jobs, const QueryOptions& options, unsigned threads) {
+std::vector<ObjectPairHit> collide_jobs(const std::vector<Job>& jobs, const QueryOptions& options, unsigned threads,
+                                        WorkspacePool& workspaces) {
   const QueryOptions o = scene_options(options);
-  auto results = run_jobs<QueryResult>(jobs.size(), threads, [&](std::size_t i, QueryWorkspace& workspace) {
+  auto results = run_jobs<QueryResult>(jobs.size(), threads, workspaces, [&](std::size_t i, QueryWorkspace& workspace) {
     const Job& j = jobs[i];
     return collide(*j.sa->object.model, j.sa->object.pose, *j.sb->object.model, j.sb->object.pose, o, workspace);
   });
@@ -246,10 +272,11 @@ std::vector<ObjectPairHit> collide_jobs(const std::vector<Job>& jobs, const Quer
 }
 
 std::vector<ObjectPairDistance> within_jobs(const std::vector<Job>& jobs, double max_distance,
-                                            const DistanceOptions& options, unsigned threads) {
+                                            const DistanceOptions& options, unsigned threads,
+                                            WorkspacePool& workspaces) {
   DistanceOptions o = scene_options(options);
   o.upper_bound = max_distance;
-  auto results = run_jobs<DistanceResult>(jobs.size(), threads, [&](std::size_t i, QueryWorkspace& workspace) {
+  auto results = run_jobs<DistanceResult>(jobs.size(), threads, workspaces, [&](std::size_t i, QueryWorkspace& workspace) {
     const Job& j = jobs[i];
     return distance(*j.sa->object.model, j.sa->object.pose, *j.sb->object.model, j.sb->object.pose, o, workspace);
   });
@@ -473,7 +500,8 @@ SceneTreeStats Scene::tree_stats() const {
 
 std::vector<ObjectPairHit> collide(const Scene& scene, const QueryOptions& options, unsigned threads) {
   check_margin(options.margin);
-  return collide_jobs(self_jobs(Access::state(scene), options.margin), options, threads);
+  const State& s = Access::state(scene);
+  return collide_jobs(self_jobs(s, options.margin), options, threads, s.workspaces);
 }
 
 std::vector<ObjectHit> collide(const Scene& scene, const Model& model, const Pose& pose, const QueryOptions& options,
@@ -483,13 +511,15 @@ std::vector<ObjectHit> collide(const Scene& scene, const Model& model, const Pos
   std::vector<Job> jobs = single_jobs(Access::state(scene), query.slot.box, options.margin);
   for (Job& j : jobs) j.sb = &query.slot;
   std::vector<ObjectHit> out;
-  for (ObjectPairHit& hit : collide_jobs(jobs, options, threads)) out.push_back({hit.a, std::move(hit.result)});
+  for (ObjectPairHit& hit : collide_jobs(jobs, options, threads, Access::state(scene).workspaces))
+    out.push_back({hit.a, std::move(hit.result)});
   return out;
 }
 
 std::vector<ObjectPairHit> collide(const Scene& a, const Scene& b, const QueryOptions& options, unsigned threads) {
   check_margin(options.margin);
-  return collide_jobs(cross_jobs(Access::state(a), Access::state(b), options.margin), options, threads);
+  return collide_jobs(cross_jobs(Access::state(a), Access::state(b), options.margin), options, threads,
+                      Access::state(a).workspaces);
 }
 
 std::vector<std::vector<ObjectHit>> collide_batch(const Scene& scene, const Model& model, std::span<const Pose> poses,
@@ -500,7 +530,7 @@ std::vector<std::vector<ObjectHit>> collide_batch(const Scene& scene, const Mode
   const State& s = Access::state(scene);
   s.prepare();
   const QueryOptions o = scene_options(options);
-  return run_jobs<std::vector<ObjectHit>>(poses.size(), threads, [&](std::size_t i, QueryWorkspace& workspace) {
+  return run_jobs<std::vector<ObjectHit>>(poses.size(), threads, s.workspaces, [&](std::size_t i, QueryWorkspace& workspace) {
     const Aabb box = world_bounds(model, poses[i]);
     TopTree one;
     one.build(std::span<const Aabb>(&box, 1));
@@ -562,7 +592,8 @@ std::optional<ObjectPairDistance> distance(const Scene& a, const Scene& b, const
 std::vector<ObjectPairDistance> distance_within(const Scene& scene, double max_distance,
                                                 const DistanceOptions& options, unsigned threads) {
   check_max_distance(max_distance);
-  return within_jobs(self_jobs(Access::state(scene), max_distance), max_distance, options, threads);
+  const State& s = Access::state(scene);
+  return within_jobs(self_jobs(s, max_distance), max_distance, options, threads, s.workspaces);
 }
 
 std::vector<ObjectDistance> distance_within(const Scene& scene, const Model& model, const Pose& pose,
@@ -572,7 +603,7 @@ std::vector<ObjectDistance> distance_within(const Scene& scene, const Model& mod
   std::vector<Job> jobs = single_jobs(Access::state(scene), query.slot.box, max_distance);
   for (Job& j : jobs) j.sb = &query.slot;
   std::vector<ObjectDistance> out;
-  for (ObjectPairDistance& d : within_jobs(jobs, max_distance, options, threads))
+  for (ObjectPairDistance& d : within_jobs(jobs, max_distance, options, threads, Access::state(scene).workspaces))
     out.push_back({d.a, std::move(d.result)});
   return out;
 }
@@ -580,7 +611,8 @@ std::vector<ObjectDistance> distance_within(const Scene& scene, const Model& mod
 std::vector<ObjectPairDistance> distance_within(const Scene& a, const Scene& b, double max_distance,
                                                 const DistanceOptions& options, unsigned threads) {
   check_max_distance(max_distance);
-  return within_jobs(cross_jobs(Access::state(a), Access::state(b), max_distance), max_distance, options, threads);
+  return within_jobs(cross_jobs(Access::state(a), Access::state(b), max_distance), max_distance, options, threads,
+                     Access::state(a).workspaces);
 }
 
 }  // namespace tightbvh

@@ -6,28 +6,16 @@
 #include <BulletCollision/Gimpact/btGImpactShape.h>
 
 #include "bench.hpp"
+#include "bullet_shape.hpp"
 
 namespace tightbvh::bench {
 namespace {
 
 struct BulletMesh {
-  std::vector<btScalar> vertices;
-  std::vector<int> indices;
-  std::unique_ptr<btTriangleIndexVertexArray> array;
-  std::unique_ptr<btGImpactMeshShape> shape;
+  BulletShape geometry;
   btCollisionObject object;
 
-  explicit BulletMesh(const Mesh& mesh) {
-    for (const Vec3& v : mesh.vertices) vertices.insert(vertices.end(), {v.x(), v.y(), v.z()});
-    for (const Triangle& t : mesh.triangles) indices.insert(indices.end(), {int(t[0]), int(t[1]), int(t[2])});
-    array = std::make_unique<btTriangleIndexVertexArray>(int(mesh.triangles.size()), indices.data(),
-                                                         int(3 * sizeof(int)), int(mesh.vertices.size()),
-                                                         vertices.data(), int(3 * sizeof(btScalar)));
-    shape = std::make_unique<btGImpactMeshShape>(array.get());
-    shape->setMargin(0);  // exact geometry, like every other engine here (default is 0.04)
-    shape->updateBound();  // builds GImpact's box tree
-    object.setCollisionShape(shape.get());
-  }
+  explicit BulletMesh(const Mesh& mesh) : geometry(mesh) { object.setCollisionShape(geometry.shape.get()); }
 };
 
 struct PairCollector final : btCollisionWorld::ContactResultCallback {

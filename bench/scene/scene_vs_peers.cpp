@@ -36,6 +36,7 @@
 #include <utility>
 #include <vector>
 
+#include "../query/bullet_shape.hpp"  // BulletShape: the same Bullet setup as tightbvh-bench
 #include "../thread_clock.hpp"
 #include "tightbvh/error.hpp"
 #include "tightbvh/model.hpp"
@@ -186,23 +187,6 @@ class FclEngine final : public Engine {
                      btVector3(pose.translation.x(), pose.translation.y(), pose.translation.z()));
 }
 
-// One GImpact shape per model, shared by its objects (as Bullet users share shapes).
-struct BulletShape {
-  std::vector<btScalar> vertices;
-  std::vector<int> indices;
-  std::unique_ptr<btTriangleIndexVertexArray> array;
-  std::unique_ptr<btGImpactMeshShape> shape;
-  explicit BulletShape(const Mesh& mesh) {
-    for (const Vec3& v : mesh.vertices) vertices.insert(vertices.end(), {v.x(), v.y(), v.z()});
-    for (const Triangle& t : mesh.triangles) indices.insert(indices.end(), {int(t[0]), int(t[1]), int(t[2])});
-    array = std::make_unique<btTriangleIndexVertexArray>(int(mesh.triangles.size()), indices.data(),
-                                                         int(3 * sizeof(int)), int(mesh.vertices.size()),
-                                                         vertices.data(), int(3 * sizeof(btScalar)));
-    shape = std::make_unique<btGImpactMeshShape>(array.get());
-    shape->setMargin(0);  // exact geometry, like the other engines (the default is 0.04)
-    shape->updateBound();
-  }
-};
 
 // The allowed pairs, honoured in the broad phase (Bullet's filter hook): no narrow phase for them.
 struct AllowedFilter final : btOverlapFilterCallback {

@@ -41,17 +41,10 @@ Obb mesh_bounds(const Mesh& mesh, const Tree& tree) {
   return box;
 }
 
-QueryOptions with_closedness(const Model& a, const Model& b, const QueryOptions& options) {
-  QueryOptions o = options;
-  if (o.solid) {
-    if (!o.closed_a) o.closed_a = &a.closedness();
-    if (!o.closed_b) o.closed_b = &b.closedness();
-  }
-  return o;
-}
-
-DistanceOptions with_closedness(const Model& a, const Model& b, const DistanceOptions& options) {
-  DistanceOptions o = options;
+// QueryOptions or DistanceOptions: solid queries take each model's closedness, computed once.
+template <class Options>
+Options with_closedness(const Model& a, const Model& b, const Options& options) {
+  Options o = options;
   if (o.solid) {
     if (!o.closed_a) o.closed_a = &a.closedness();
     if (!o.closed_b) o.closed_b = &b.closedness();

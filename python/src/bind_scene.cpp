@@ -246,10 +246,12 @@ class PyScene {
     }
     py::set names;
     py::list data;
+    if (!return_names && !return_data) return py::bool_(!hits.empty());  // trimesh's default: no names built
     for (const ObjectPairHit& hit : hits) {
       const SceneObject& a = scene_.object(hit.a);
       const SceneObject& b = scene_.object(hit.b);
-      names.add(a.name < b.name ? py::make_tuple(a.name, b.name) : py::make_tuple(b.name, a.name));
+      if (return_names)
+        names.add(a.name < b.name ? py::make_tuple(a.name, b.name) : py::make_tuple(b.name, a.name));
       if (return_data) add_contacts(data, a, a.name, b, b.name, hit.result);
     }
     return shaped(py::bool_(!hits.empty()), return_names, names, return_data, data);

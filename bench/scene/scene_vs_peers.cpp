@@ -482,7 +482,8 @@ int run(int argc, char** argv) {
   nlohmann::json out = {{"scene", scene_path}, {"objects", d.ids.size()}, {"models", d.distinct.size()},
                         {"frames", d.frames.size()}, {"unit", unit}, {"brute_force_pairs", touching},
                         {"touching_pairs", truth.front().size()}, {"candidate_pairs", candidate_pairs(file.scene)},
-                        {"allowed_pairs", d.allowed.size()},
+                        {"allowed_pairs", d.allowed.size()}, {"reps", reps}, {"min_seconds", min_seconds},
+                        {"clock", "thread CPU"},
                         {"rows", nlohmann::json::array()}};
   for (const Row& r : rows) {
     std::printf("%-10s %12.4g %10.3g %10.3g %8zu %11zu\n", r.engine.c_str(), r.rate, fcl > 0 ? r.rate / fcl : 0.0,

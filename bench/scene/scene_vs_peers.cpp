@@ -501,7 +501,7 @@ int run(int argc, char** argv) {
                 m["own_bytes"].get<std::size_t>(), m["own_bytes_per_object"].get<double>());
   };
   print_memory("scene", out["memory"]);
-  if (memory_objects > 0) {
+  if (memory_objects > 0 && !d.distinct.empty()) {
     out["memory_shared"] = memory_report(memory_scene(d, memory_objects, memory_models));
     print_memory("shared models", out["memory_shared"]);
   }

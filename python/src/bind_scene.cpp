@@ -267,10 +267,11 @@ class PyScene {
     }
     py::set names;
     py::list data;
+    if (!return_names && !return_data) return py::bool_(!hits.empty());
     const SceneObject query{model, pose, 1, kAllGroups, kExternal};
     for (const ObjectHit& hit : hits) {
       const SceneObject& a = scene_.object(hit.id);
-      names.add(py::str(a.name));
+      if (return_names) names.add(py::str(a.name));
       if (return_data) add_contacts(data, a, a.name, query, kExternal, hit.result);
     }
     return shaped(py::bool_(!hits.empty()), return_names, names, return_data, data);
@@ -285,10 +286,11 @@ class PyScene {
     }
     py::set names;
     py::list data;
+    if (!return_names && !return_data) return py::bool_(!hits.empty());
     for (const ObjectPairHit& hit : hits) {
       const SceneObject& a = scene_.object(hit.a);
       const SceneObject& b = other.scene_.object(hit.b);
-      names.add(py::make_tuple(a.name, b.name));
+      if (return_names) names.add(py::make_tuple(a.name, b.name));
       if (return_data) add_contacts(data, a, a.name, b, b.name, hit.result);
     }
     return shaped(py::bool_(!hits.empty()), return_names, names, return_data, data);

@@ -7,10 +7,10 @@
 /// union of the closed triangles (degenerate ones are the segment or point they are). The closest
 /// point on one triangle is Ericson's (Real-Time Collision Detection, §5.1.5, Voronoi regions):
 /// the projection onto the plane when it falls strictly inside the triangle, otherwise the nearest
-/// point of its three edges (closest_point_on_triangle). The tree is searched depth first, the
-/// nearer child first, with a point–box lower bound that never exceeds the distance to the box's
-/// triangles; a node is skipped when its bound exceeds the best distance so far or is at least
-/// options.max_distance. Among triangles at the same least distance the lowest index wins, so the
+/// point of its three edges (closest_point_on_triangle). The tree is searched best first (the node
+/// of least bound next), with a point–box lower bound that never exceeds the distance to the box's
+/// triangles; the search ends when the least bound left exceeds the best distance so far or, before
+/// any triangle, is at least options.max_distance. Among triangles at the same least distance the lowest index wins, so the
 /// answer is bit for bit closest_points_brute_force()'s.
 ///
 /// The sign (signed_distance) and contains() are classify_point()'s (inside.hpp: exact ray parity

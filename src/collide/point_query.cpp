@@ -1,5 +1,5 @@
 // Point queries against a posed mesh: closest points (Ericson, Real-Time Collision Detection,
-// §5.1.5, per triangle; a depth-first descent with a point–box lower bound over the tree), the
+// §5.1.5, per triangle; a best-first search with a point–box lower bound over the tree), the
 // signed distance and contains (classify_point's exact ray parity). See
 // include/tightbvh/point_query.hpp.
 #include "tightbvh/point_query.hpp"
@@ -87,24 +87,24 @@ struct Pending {
   double bound;
 };
 
-// Per worker: the descent's stack, kept between points.
+// Per worker: the search's heap, kept between points.
 struct Scratch {
-  std::vector<Pending> stack;
+  std::vector<Pending> heap;
 };
 
-// Depth first, the nearer child first; a node is skipped when its bound is above the best distance
-// so far (equal is kept, for the lowest index on a tie) or, before any triangle, at least `limit`.
-[[nodiscard]] Best search(const Tree& tree, const Mesh& mesh, const Vec3& p, double limit, std::vector<Pending>& stack) {
+// Best first: the node with the least bound next (a binary heap), so the search ends as soon as
+// the least bound left is above the best distance so far (equal is kept, for the lowest index on
+// a tie) or, before any triangle, at least `limit`.
+[[nodiscard]] Best search(const Tree& tree, const Mesh& mesh, const Vec3& p, double limit, std::vector<Pending>& heap) {
   Best best;
   if (tree.nodes.empty()) return best;
   const auto prunable = [&](double bound) { return best.found ? bound > best.distance : bound >= limit; };
+  const auto later = [](const Pending& x, const Pending& y) { return x.bound > y.bound; };
   const double margin = kBoxMargin * (query_detail::box_scale(tree.nodes[0].box) + p.cwiseAbs().maxCoeff());
-  stack.clear();
-  stack.push_back({0, box_bound(tree.nodes[0].box, p, margin)});
-  while (!stack.empty()) {
-    const Pending top = stack.back();
-    stack.pop_back();
-    if (prunable(top.bound)) continue;
+  heap.clear();
+  Pending top{0, box_bound(tree.nodes[0].box, p, margin)};
+  for (;;) {
+    if (prunable(top.bound)) break;
     const Node& node = tree.nodes[top.node];
     if (node.is_leaf()) {
       for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
@@ -113,13 +113,28 @@ struct Scratch {
         const TrianglePoint r = closest_point_on_triangle(p, a, b, c);
         if (best.takes(r.distance, t, limit)) best.take(r, t);
       }
-      continue;
+    } else {
+      // The nearer child goes on at once unless the heap holds a nearer node; the other waits.
+      Pending near{node.first, box_bound(tree.nodes[node.first].box, p, margin)};
+      Pending far{node.first + 1, box_bound(tree.nodes[node.first + 1].box, p, margin)};
+      if (far.bound < near.bound) std::swap(near, far);
+      if (!prunable(far.bound)) {
+        heap.push_back(far);
+        std::push_heap(heap.begin(), heap.end(), later);
+      }
+      if (!prunable(near.bound) && (heap.empty() || near.bound <= heap.front().bound)) {
+        top = near;
+        continue;
+      }
+      if (!prunable(near.bound)) {
+        heap.push_back(near);
+        std::push_heap(heap.begin(), heap.end(), later);
+      }
     }
-    Pending near{node.first, box_bound(tree.nodes[node.first].box, p, margin)};
-    Pending far{node.first + 1, box_bound(tree.nodes[node.first + 1].box, p, margin)};
-    if (far.bound < near.bound) std::swap(near, far);
-    if (!prunable(far.bound)) stack.push_back(far);
-    if (!prunable(near.bound)) stack.push_back(near);
+    if (heap.empty()) break;
+    std::pop_heap(heap.begin(), heap.end(), later);
+    top = heap.back();
+    heap.pop_back();
   }
   return best;
 }
@@ -207,7 +222,7 @@ std::vector<ClosestPoint> closest_points(const Tree& tree, const Mesh& mesh, con
   check_input("closest_points", &tree, mesh, pose, points);
   const Pose inverse = pose.inverse();
   return run_points<ClosestPoint>(points.size(), options.threads, [&](std::size_t i, Scratch& scratch) {
-    const Best best = search(tree, mesh, to_mesh_frame(inverse, points[i]), options.max_distance, scratch.stack);
+    const Best best = search(tree, mesh, to_mesh_frame(inverse, points[i]), options.max_distance, scratch.heap);
     return to_result(best, pose, points[i], options.max_distance);
   });
 }
@@ -225,7 +240,7 @@ std::vector<ClosestPoint> signed_distance(const Model& model, const Pose& pose, 
   const Pose inverse = pose.inverse();
   return run_points<ClosestPoint>(points.size(), options.threads, [&](std::size_t i, Scratch& scratch) {
     const Vec3 local = to_mesh_frame(inverse, points[i]);
-    ClosestPoint r = to_result(search(model.tree(), model.mesh(), local, options.max_distance, scratch.stack), pose,
+    ClosestPoint r = to_result(search(model.tree(), model.mesh(), local, options.max_distance, scratch.heap), pose,
                                points[i], options.max_distance);
     switch (classify_point(model.tree(), model.mesh(), model.closedness(), local)) {
       case Containment::inside: r.distance = -r.distance; break;

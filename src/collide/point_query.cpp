@@ -51,19 +51,29 @@ constexpr double kThinTriangle = 1e-8;
 // The query point in the mesh frame: one expression for the search and its brute-force reference.
 [[nodiscard]] Vec3 to_mesh_frame(const Pose& inverse, const Vec3& p) { return query_detail::map_point(inverse, p); }
 
-// A lower bound of the distance from p to anything inside the node's float slab box
+// The squared raw bound of the distance from p to anything inside the node's float slab box
 // { x : |a_i . (x - c)| <= e_i }: for x in it, |a_i . (x - p)| >= s_i = |a_i . (p - c)| - e_i, so
-// |A^T (x - p)| >= sqrt(sum of s_i^2 over s_i > 0), and |A^T v| <= (1 + 4e-7) |v| (the float axes
-// are orthonormal to about 2e-7, compact_box.hpp): hence the factor 1 - kCompactBoxSlack. `margin`
-// covers the rounding of the dot products.
-[[nodiscard]] double box_bound(const CompactBox& box, const Vec3& p, double margin) {
+// |A^T (x - p)| >= r = sqrt(sum of s_i^2 over s_i > 0); returns r^2 (no square root per node:
+// the search compares it with a squared threshold, Threshold).
+[[nodiscard]] inline double box_key(const CompactBox& box, const Vec3& p) {
   const Vec3 d = p - box.center_d();
   double sum = 0.0;
   for (int i = 0; i < 3; ++i) {
     const double s = std::abs(box.axes.col(i).cast<double>().dot(d)) - static_cast<double>(box.half_extents[i]);
     if (s > 0.0) sum += s * s;
   }
-  return std::max(0.0, std::sqrt(sum) * (1.0 - kCompactBoxSlack) - margin);
+  return sum;
+}
+
+// When a node of key r^2 (box_key) can be skipped: |A^T v| <= (1 + 4e-7) |v| (the float axes are
+// orthonormal to about 2e-7, compact_box.hpp), so r (1 - kCompactBoxSlack) - margin never exceeds
+// the distance to the node's triangles (`margin` covers the rounding of the dot products). That
+// bound exceeds a distance d iff r^2 > ((d + margin) / (1 - kCompactBoxSlack))^2; the threshold
+// is raised by a relative 1e-12 for its own rounding (far below the slack), so it never skips a
+// node it should visit.
+[[nodiscard]] inline double squared_threshold(double distance, double margin) {
+  const double r = (distance + margin) / (1.0 - kCompactBoxSlack);
+  return r * r * (1.0 + 1e-12);
 }
 
 // The best triangle so far for one point, mesh frame.
@@ -81,10 +91,10 @@ struct Best {
   void take(const TrianglePoint& r, std::uint32_t t) { found = true, distance = r.distance, triangle = t, at = r; }
 };
 
-// A node to visit and its lower bound.
+// A node to visit and its key (box_key).
 struct Pending {
   std::uint32_t node;
-  double bound;
+  double key;
 };
 
 // Per worker: the search's heap, kept between points.
@@ -92,41 +102,45 @@ struct Scratch {
   std::vector<Pending> heap;
 };
 
-// Best first: the node with the least bound next (a binary heap), so the search ends as soon as
-// the least bound left is above the best distance so far (equal is kept, for the lowest index on
-// a tie) or, before any triangle, at least `limit`.
+// Best first: the node with the least bound next (a binary heap by key), so the search ends as
+// soon as the least bound left is above the best distance so far (equal is kept, for the lowest
+// index on a tie) or, before any triangle, at least `limit`.
 [[nodiscard]] Best search(const Tree& tree, const Mesh& mesh, const Vec3& p, double limit, std::vector<Pending>& heap) {
   Best best;
   if (tree.nodes.empty()) return best;
-  const auto prunable = [&](double bound) { return best.found ? bound > best.distance : bound >= limit; };
-  const auto later = [](const Pending& x, const Pending& y) { return x.bound > y.bound; };
   const double margin = kBoxMargin * (query_detail::box_scale(tree.nodes[0].box) + p.cwiseAbs().maxCoeff());
+  double threshold = squared_threshold(limit, margin);  // infinity for no limit
+  const auto prunable = [&](double key) { return best.found ? key > threshold : key >= threshold; };
+  const auto later = [](const Pending& x, const Pending& y) { return x.key > y.key; };
   heap.clear();
-  Pending top{0, box_bound(tree.nodes[0].box, p, margin)};
+  Pending top{0, box_key(tree.nodes[0].box, p)};
   for (;;) {
-    if (prunable(top.bound)) break;
+    if (prunable(top.key)) break;
     const Node& node = tree.nodes[top.node];
     if (node.is_leaf()) {
       for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
         const std::uint32_t t = tree.triangle_order[k];
         const auto [a, b, c] = mesh.corners(t);
         const TrianglePoint r = closest_point_on_triangle(p, a, b, c);
-        if (best.takes(r.distance, t, limit)) best.take(r, t);
+        if (best.takes(r.distance, t, limit)) {
+          best.take(r, t);
+          threshold = squared_threshold(best.distance, margin);
+        }
       }
     } else {
       // The nearer child goes on at once unless the heap holds a nearer node; the other waits.
-      Pending near{node.first, box_bound(tree.nodes[node.first].box, p, margin)};
-      Pending far{node.first + 1, box_bound(tree.nodes[node.first + 1].box, p, margin)};
-      if (far.bound < near.bound) std::swap(near, far);
-      if (!prunable(far.bound)) {
+      Pending near{node.first, box_key(tree.nodes[node.first].box, p)};
+      Pending far{node.first + 1, box_key(tree.nodes[node.first + 1].box, p)};
+      if (far.key < near.key) std::swap(near, far);
+      if (!prunable(far.key)) {
         heap.push_back(far);
         std::push_heap(heap.begin(), heap.end(), later);
       }
-      if (!prunable(near.bound) && (heap.empty() || near.bound <= heap.front().bound)) {
+      if (!prunable(near.key) && (heap.empty() || near.key <= heap.front().key)) {
         top = near;
         continue;
       }
-      if (!prunable(near.bound)) {
+      if (!prunable(near.key)) {
         heap.push_back(near);
         std::push_heap(heap.begin(), heap.end(), later);
       }

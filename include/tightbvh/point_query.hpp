@@ -17,8 +17,9 @@
 /// with exact predicates), for the point as mapped into the mesh frame (with the identity pose,
 /// the coordinates given). They need a closed mesh (closed.hpp): InputError otherwise, saying why.
 ///
-/// Batches run on `threads` threads (0: all cores); results are in point order and identical for
-/// any thread count (each point is answered on its own).
+/// Batches run on `threads` threads (0: all cores), the points visited in Morton order, each search
+/// seeded with the triangle of the previous point's answer (which changes the work, never the
+/// answer); results are in point order and identical for any thread count.
 #include <cstdint>
 #include <limits>
 #include <span>

@@ -125,7 +125,9 @@ struct Scratch {
       threshold = squared_threshold(best.distance, margin);
     }
   }
-  const auto prunable = [&](double key) { return best.found ? key > threshold : key >= threshold; };
+  // Strictly above (the threshold is raised for rounding, so equality needs no skipping): a key
+  // that overflows to infinity is then still visited when there is no limit.
+  const auto prunable = [&](double key) { return key > threshold; };
   const auto later = [](const Pending& x, const Pending& y) { return x.key > y.key; };
   heap.clear();
   Pending top{0, box_key(tree.nodes[0].box, p)};
@@ -226,12 +228,12 @@ void check_input(const char* who, const Tree* tree, const Mesh& mesh, const Pose
     x = (x | x << 2) & 0x1249249249249249ull;
     return x;
   };
+  // The cell along one axis; 0 for NaN (a span that overflows to infinity).
+  const auto cell = [](double x) { return x >= 0.0 ? static_cast<std::uint64_t>(std::min(x, 2097151.0)) : 0; };
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Vec3 q = (points[i] - lo).cwiseProduct(scale);
-    keys[i] = {spread(static_cast<std::uint64_t>(q.x())) | spread(static_cast<std::uint64_t>(q.y())) << 1 |
-                   spread(static_cast<std::uint64_t>(q.z())) << 2,
-               static_cast<std::uint32_t>(i)};
+    keys[i] = {spread(cell(q.x())) | spread(cell(q.y())) << 1 | spread(cell(q.z())) << 2, static_cast<std::uint32_t>(i)};
   }
   std::sort(keys.begin(), keys.end());
   for (std::size_t i = 0; i < keys.size(); ++i) order[i] = keys[i].second;

@@ -298,6 +298,15 @@ TEST(PointQuery, BadInputIsAnInputErrorNamingIt) {
             std::string::npos);
 }
 
+TEST(PointQuery, FarPointsAndFarMeshes) {
+  // Points 1e100 away, and a mesh 1e6 from the origin: the same answers as the brute force.
+  const Mesh m = transformed(cube(), 1.0, Vec3(1e6, -1e6, 3e6));
+  const Tree t = build(m, {.threads = 1});
+  const std::vector<Vec3> points = {{1e100, 0, 0}, {-1e100, 1e100, 0}, {1e6 + 0.5, -1e6 + 0.5, 3e6 + 2}};
+  expect_brute_force(m, t, Pose::identity(), points);
+  for (const ClosestPoint& r : closest_points(t, m, Pose::identity(), points)) EXPECT_FALSE(r.beyond_max_distance);
+}
+
 TEST(PointQuery, EmptyPointSets) {
   const ModelPtr model = make_model(cube());
   EXPECT_TRUE(closest_points(*model, Pose::identity(), std::vector<Vec3>{}).empty());

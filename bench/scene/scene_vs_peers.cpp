@@ -11,6 +11,13 @@
 // and the self-collision that follows (frames/s).
 //
 //     tightbvh-scene-vs-peers --scene out/scenes/a-touching.json [--json OUT] [--reps N] [--engines tightbvh,fcl]
+//                             [--memory-objects N --memory-models M]
+//
+// Memory: the scene's Scene::model_bytes() (each distinct model once) and Scene::own_bytes() (the
+// scene layer: objects, index, names, allowed pairs, top-level tree), against the bytes the
+// objects' models would take if each object had its own copy. --memory-objects N adds the same
+// report for a scene of N objects sharing the file's first M models (object i: model i mod M at
+// the pose of file object i mod objects, shifted per round so that no two boxes coincide).
 //
 // Exit status 1 when tightbvh's pairs differ from brute force, 2 on bad input.
 #include <btBulletCollisionCommon.h>
@@ -321,15 +328,19 @@ double rate(Engine& e, const SceneData& d, int reps, double min_seconds) {
     e.reset();
     if (d.frames.empty()) {
       e.check(pairs);  // brings lazily built structures up to date outside the timing
+      // Batches of doubling size between clock reads: reading the thread CPU clock is a system
+      // call (about 2 us here), a third of one check on the small scenes.
       std::size_t count = 0;
       const double t0 = thread_seconds();
       double t = 0;
-      do {
-        pairs.clear();
-        e.check(pairs);
-        ++count;
+      for (std::size_t batch = 1; t < min_seconds; batch *= 2) {
+        for (std::size_t k = 0; k < batch; ++k) {
+          pairs.clear();
+          e.check(pairs);
+        }
+        count += batch;
         t = thread_seconds() - t0;
-      } while (t < min_seconds);
+      }
       rates.push_back(double(count) / t);
     } else {
       pairs.clear();
@@ -347,6 +358,47 @@ double rate(Engine& e, const SceneData& d, int reps, double min_seconds) {
   return rates[rates.size() / 2];
 }
 
+// The memory of `scene`: its models counted once, the scene layer, and the models counted per object.
+nlohmann::json memory_report(const Scene& scene) {
+  (void)scene.tree_stats();  // builds the top-level tree, part of own_bytes()
+  std::size_t unshared = 0;
+  for (const ObjectId id : scene.ids()) unshared += scene.object(id).model->bytes();
+  const std::size_t objects = scene.size();
+  return {{"objects", objects},
+          {"models", scene.model_count()},
+          {"model_bytes", scene.model_bytes()},
+          {"own_bytes", scene.own_bytes()},
+          {"own_bytes_per_object", objects ? double(scene.own_bytes()) / double(objects) : 0.0},
+          {"unshared_model_bytes", unshared}};
+}
+
+// The broad phase's candidates at the initial poses: tested object pairs whose world boxes overlap.
+std::size_t candidate_pairs(const Scene& scene) {
+  const std::vector<ObjectId> ids = scene.ids();
+  std::vector<Aabb> boxes;
+  for (const ObjectId id : ids) boxes.push_back(scene.world_bounds(id));
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    for (std::size_t j = i + 1; j < ids.size(); ++j)
+      count += (boxes[i].min.array() <= boxes[j].max.array()).all() &&
+               (boxes[j].min.array() <= boxes[i].max.array()).all() && scene.tested(ids[i], ids[j]);
+  return count;
+}
+
+// A scene of `count` objects sharing the first `models` distinct models of `d` (see the file comment).
+Scene memory_scene(const SceneData& d, std::size_t count, std::size_t models) {
+  models = std::min(models, d.distinct.size());
+  Scene scene;
+  double extent = 1.0;
+  for (const Pose& p : d.poses) extent = std::max(extent, p.translation.cwiseAbs().maxCoeff());
+  for (std::size_t i = 0; i < count; ++i) {
+    Pose pose = d.poses[i % d.poses.size()];
+    pose.translation.x() += 3.0 * extent * double(i / d.poses.size());
+    scene.add(d.distinct[i % models], pose, "m" + std::to_string(i));
+  }
+  return scene;
+}
+
 int run(int argc, char** argv) {
   CLI::App app{"tightbvh's Scene vs FCL's dynamic AABB tree manager and Bullet's btCollisionWorld on a scene file"};
   std::string scene_path, json_path;
@@ -358,6 +410,10 @@ int run(int argc, char** argv) {
   app.add_option("--reps", reps, "repetitions (median)")->check(CLI::PositiveNumber);
   app.add_option("--min-seconds", min_seconds, "without frames: CPU seconds per repetition");
   app.add_option("--engines", only, "subset of: tightbvh fcl bullet")->delimiter(',');
+  std::size_t memory_objects = 0, memory_models = 10;
+  app.add_option("--memory-objects", memory_objects, "also report the memory of this many objects sharing models");
+  app.add_option("--memory-models", memory_models, "with --memory-objects: how many models they share")
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
 
   SceneFile file = load_scene_file(scene_path);
@@ -425,6 +481,9 @@ int run(int argc, char** argv) {
   std::printf("%-10s %12s %10s %10s %8s %11s\n", "engine", unit, "vs fcl", "vs bullet", "pairs", "mismatches");
   nlohmann::json out = {{"scene", scene_path}, {"objects", d.ids.size()}, {"models", d.distinct.size()},
                         {"frames", d.frames.size()}, {"unit", unit}, {"brute_force_pairs", touching},
+                        {"touching_pairs", truth.front().size()}, {"candidate_pairs", candidate_pairs(file.scene)},
+                        {"allowed_pairs", d.allowed.size()}, {"reps", reps}, {"min_seconds", min_seconds},
+                        {"clock", "thread CPU"},
                         {"rows", nlohmann::json::array()}};
   for (const Row& r : rows) {
     std::printf("%-10s %12.4g %10.3g %10.3g %8zu %11zu\n", r.engine.c_str(), r.rate, fcl > 0 ? r.rate / fcl : 0.0,
@@ -432,6 +491,19 @@ int run(int argc, char** argv) {
     out["rows"].push_back({{"engine", r.engine}, {"rate", r.rate}, {"vs_fcl", fcl > 0 ? r.rate / fcl : 0.0},
                            {"vs_bullet", bullet > 0 ? r.rate / bullet : 0.0}, {"pairs", r.touching},
                            {"mismatches", r.mismatches}});
+  }
+  out["memory"] = memory_report(file.scene);
+  const auto print_memory = [](const char* what, const nlohmann::json& m) {
+    std::printf("memory (%s): %zu objects, %zu models: models %zu bytes (%zu if each object had its own), scene "
+                "layer %zu bytes (%.0f per object)\n",
+                what, m["objects"].get<std::size_t>(), m["models"].get<std::size_t>(),
+                m["model_bytes"].get<std::size_t>(), m["unshared_model_bytes"].get<std::size_t>(),
+                m["own_bytes"].get<std::size_t>(), m["own_bytes_per_object"].get<double>());
+  };
+  print_memory("scene", out["memory"]);
+  if (memory_objects > 0 && !d.distinct.empty()) {
+    out["memory_shared"] = memory_report(memory_scene(d, memory_objects, memory_models));
+    print_memory("shared models", out["memory_shared"]);
   }
   if (!json_path.empty()) std::ofstream(json_path) << out.dump(1) << "\n";
   // Our answers must equal brute force; a peer's mismatches are reported in its row (Bullet's

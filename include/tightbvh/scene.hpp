@@ -68,6 +68,11 @@ struct SceneTreeStats {
   std::uint64_t refits = 0;     ///< refits (poses changed, structure kept) so far
   double cost = 0.0;            ///< sum of the internal nodes' box surface areas now
   double built_cost = 0.0;      ///< the same right after the last rebuild
+  /// Self walks of the whole tree that made the scene's pair cache anew (the first query, a query
+  /// after an add or a remove, with another margin, or after many objects moved).
+  std::uint64_t pair_walks = 0;
+  /// Updates of the pair cache that walked the tree only with the boxes of the objects moved.
+  std::uint64_t pair_updates = 0;
 };
 
 namespace scene_detail {

@@ -166,16 +166,19 @@ class PyScene {
  public:
   PyScene(py::handle threads, bool solid) : threads_(thread_count(threads, "threads")), solid_(solid) {}
 
-  ObjectId add_object(py::handle name_object, py::handle mesh, py::handle transform) {
+  ObjectId add_object(py::handle name_object, py::handle mesh, py::handle transform, py::handle group,
+                      py::handle mask) {
     const std::string name = object_name(name_object, "add_object: name");
     const Pose pose = to_pose(transform, "transform");
+    const std::uint32_t group_bits = filter_bits(group, "add_object: group");
+    const std::uint32_t mask_bits = filter_bits(mask, "add_object: mask");
     const auto [model, key] = object_model(mesh);
     if (key) ++uses_[*key];  // before any removal, so replacing an object by its own mesh keeps the model
     ObjectId id = 0;
     try {
       // As trimesh: an object of the same name is replaced.
       if (const auto old = scene_.find(name)) remove(*old);
-      id = scene_.add(model, pose, name);
+      id = scene_.add(SceneObject{model, pose, group_bits, mask_bits, name});
     } catch (...) {
       if (key) release(*key);
       throw;
@@ -216,6 +219,16 @@ class PyScene {
     }
   }
 
+  void set_filter(py::handle name, py::handle group, py::handle mask) {
+    const ObjectId id = id_of(name, "set_filter");
+    scene_.set_filter(id, filter_bits(group, "set_filter: group"), filter_bits(mask, "set_filter: mask"));
+  }
+
+  py::tuple filter(py::handle name) const {
+    const SceneObject& o = scene_.object(id_of(name, "filter"));
+    return py::make_tuple(o.group, o.mask);
+  }
+
   bool is_allowed(py::handle a, py::handle b) const {
     return scene_.allowed(id_of(a, "allowed"), id_of(b, "allowed"));
   }
@@ -228,10 +241,12 @@ class PyScene {
     }
     py::set names;
     py::list data;
+    if (!return_names && !return_data) return py::bool_(!hits.empty());  // trimesh's default: no names built
     for (const ObjectPairHit& hit : hits) {
       const SceneObject& a = scene_.object(hit.a);
       const SceneObject& b = scene_.object(hit.b);
-      names.add(a.name < b.name ? py::make_tuple(a.name, b.name) : py::make_tuple(b.name, a.name));
+      if (return_names)
+        names.add(a.name < b.name ? py::make_tuple(a.name, b.name) : py::make_tuple(b.name, a.name));
       if (return_data) add_contacts(data, a, a.name, b, b.name, hit.result);
     }
     return shaped(py::bool_(!hits.empty()), return_names, names, return_data, data);
@@ -247,10 +262,11 @@ class PyScene {
     }
     py::set names;
     py::list data;
+    if (!return_names && !return_data) return py::bool_(!hits.empty());
     const SceneObject query{model, pose, 1, kAllGroups, kExternal};
     for (const ObjectHit& hit : hits) {
       const SceneObject& a = scene_.object(hit.id);
-      names.add(py::str(a.name));
+      if (return_names) names.add(py::str(a.name));
       if (return_data) add_contacts(data, a, a.name, query, kExternal, hit.result);
     }
     return shaped(py::bool_(!hits.empty()), return_names, names, return_data, data);
@@ -265,10 +281,11 @@ class PyScene {
     }
     py::set names;
     py::list data;
+    if (!return_names && !return_data) return py::bool_(!hits.empty());
     for (const ObjectPairHit& hit : hits) {
       const SceneObject& a = scene_.object(hit.a);
       const SceneObject& b = other.scene_.object(hit.b);
-      names.add(py::make_tuple(a.name, b.name));
+      if (return_names) names.add(py::make_tuple(a.name, b.name));
       if (return_data) add_contacts(data, a, a.name, b, b.name, hit.result);
     }
     return shaped(py::bool_(!hits.empty()), return_names, names, return_data, data);
@@ -316,6 +333,62 @@ class PyScene {
                   distance_data(a, b, d->result));
   }
 
+  // Every pair closer than max_distance: {key: distance}, with return_data also {key: DistanceData};
+  // the keys are the names of min_distance_internal (a sorted name pair), in object id order.
+  py::object distance_within_internal(double max_distance, bool return_data) const {
+    std::vector<ObjectPairDistance> found;
+    {
+      const py::gil_scoped_release release;
+      found = distance_within(scene_, max_distance, distance_options(), threads_);
+    }
+    py::dict distances, data;
+    for (const ObjectPairDistance& d : found) {
+      const std::string& a = scene_.object(d.a).name;
+      const std::string& b = scene_.object(d.b).name;
+      const py::tuple key = a < b ? py::make_tuple(a, b) : py::make_tuple(b, a);
+      distances[key] = d.result.distance;
+      if (return_data) data[key] = distance_data(a, b, d.result);
+    }
+    return return_data ? py::object(py::make_tuple(distances, data)) : py::object(distances);
+  }
+
+  // The same for one query object: keyed by the scene object's name.
+  py::object distance_within_single(py::handle mesh, double max_distance, py::handle transform, bool return_data) {
+    const Pose pose = to_pose(transform, "transform");
+    const ModelPtr model = query_model(mesh);
+    std::vector<ObjectDistance> found;
+    {
+      const py::gil_scoped_release release;
+      found = distance_within(scene_, *model, pose, max_distance, distance_options(), threads_);
+    }
+    py::dict distances, data;
+    for (const ObjectDistance& d : found) {
+      const std::string& name = scene_.object(d.id).name;
+      distances[py::str(name)] = d.result.distance;
+      if (return_data) data[py::str(name)] = distance_data(name, kExternal, d.result);
+    }
+    return return_data ? py::object(py::make_tuple(distances, data)) : py::object(distances);
+  }
+
+  // The same across two scenes: keyed by (name here, name there).
+  py::object distance_within_other(const PyScene& other, double max_distance, bool return_data) const {
+    if (&other == this) throw py::value_error("distance_within_other: other_manager must be another Scene");
+    std::vector<ObjectPairDistance> found;
+    {
+      const py::gil_scoped_release release;
+      found = distance_within(scene_, other.scene_, max_distance, distance_options(), threads_);
+    }
+    py::dict distances, data;
+    for (const ObjectPairDistance& d : found) {
+      const std::string& a = scene_.object(d.a).name;
+      const std::string& b = other.scene_.object(d.b).name;
+      const py::tuple key = py::make_tuple(a, b);
+      distances[key] = d.result.distance;
+      if (return_data) data[key] = distance_data(a, b, d.result);
+    }
+    return return_data ? py::object(py::make_tuple(distances, data)) : py::object(distances);
+  }
+
   // One in_collision_single per transform, on all of the scene's threads; the names per pose.
   py::list in_collision_batch(py::handle mesh, py::handle transforms) {
     const std::vector<Pose> poses = to_poses(transforms, "transforms");
@@ -355,9 +428,9 @@ class PyScene {
 
   PyModel model(py::handle name) const { return {scene_.object(id_of(name, "model")).model, std::nullopt}; }
 
-  // State: (threads, solid, objects: ((name, Model, 4x4 transform), ...) in id order, allowed:
-  // ((name, name), ...)). A model shared by objects is one Python object in the state, so it
-  // stays shared. The mesh cache is not part of it: after unpickling, adding an original mesh
+  // State: (threads, solid, objects: ((name, Model, 4x4 transform, group, mask), ...) in id order,
+  // allowed: ((name, name), ...)); an object of 3 fields has the default filter bits. A model
+  // shared by objects is one Python object in the state, so it stays shared. The mesh cache is not part of it: after unpickling, adding an original mesh
   // object again builds its model again.
   py::object state() const {
     std::unordered_map<const Model*, py::object> models;
@@ -366,7 +439,7 @@ class PyScene {
       const SceneObject& o = scene_.object(id);
       auto [it, added] = models.try_emplace(o.model.get());
       if (added) it->second = py::cast(PyModel{o.model, std::nullopt});
-      objects.append(py::make_tuple(o.name, it->second, transform(py::str(o.name))));
+      objects.append(py::make_tuple(o.name, it->second, transform(py::str(o.name)), o.group, o.mask));
     }
     py::list allowed;
     for (const auto& [a, b] : allowed_) allowed.append(py::make_tuple(a, b));
@@ -380,11 +453,18 @@ class PyScene {
     if (!py::isinstance<py::tuple>(f[2]) || !py::isinstance<py::tuple>(f[3]))
       throw py::type_error(what + ": objects and allowed must be tuples");
     for (const py::handle object : py::reinterpret_borrow<py::tuple>(f[2])) {
-      const py::tuple o = state_tuple(object, 3, "Scene object");
+      const bool filtered = py::isinstance<py::tuple>(object) && py::len(object) == 5;
+      const py::tuple o = state_tuple(object, filtered ? 5 : 3, "Scene object");
       const std::string name = state_string(o[0], what + ": name");
       if (!py::isinstance<PyModel>(o[1])) throw py::type_error(what + ": '" + name + "': the model must be a Model");
       if (result.scene_.find(name)) throw py::value_error(what + ": duplicate name '" + name + "'");
-      result.scene_.add(o[1].cast<const PyModel&>().model, to_pose(o[2], what + ": '" + name + "': transform"), name);
+      SceneObject added{o[1].cast<const PyModel&>().model, to_pose(o[2], what + ": '" + name + "': transform"), 1,
+                        kAllGroups, name};
+      if (filtered) {
+        added.group = static_cast<std::uint32_t>(state_count(o[3], what + ": '" + name + "': group", kAllGroups));
+        added.mask = static_cast<std::uint32_t>(state_count(o[4], what + ": '" + name + "': mask", kAllGroups));
+      }
+      result.scene_.add(std::move(added));
     }
     for (const py::handle pair : py::reinterpret_borrow<py::tuple>(f[3])) {
       const py::tuple p = state_tuple(pair, 2, "Scene allowed pair");
@@ -413,6 +493,15 @@ class PyScene {
     DistanceOptions o;
     o.solid = solid_;
     return o;
+  }
+
+  // Collision filter bits: an int in [0, 2**32) (TypeError for another type, ValueError out of range).
+  static std::uint32_t filter_bits(py::handle value, const std::string& what) {
+    if (py::isinstance<py::bool_>(value) || !py::isinstance<py::int_>(value))
+      throw py::type_error(what + ": expected an int, got " + py::str(py::type::of(value)).cast<std::string>());
+    if (py::int_(0).attr("__gt__")(value).cast<bool>() || py::int_(kAllGroups).attr("__lt__")(value).cast<bool>())
+      throw py::value_error(what + ": must be in [0, 2**32), got " + py::str(value).cast<std::string>());
+    return value.cast<std::uint32_t>();
   }
 
   static std::string object_name(py::handle name, const std::string& what) {
@@ -599,8 +688,14 @@ void bind_scene(py::module_& m) {
            "(an object wholly inside another touches it, at distance 0; open meshes are a ValueError), as "
            "trimesh does for convex meshes")
       .def("add_object", &PyScene::add_object, py::arg("name"), py::arg("mesh"), py::arg("transform") = py::none(),
+           py::arg("group") = 1, py::arg("mask") = kAllGroups,
            "Adds (or, as trimesh, replaces) the object `name`: a Model, a Mesh or anything with .vertices and "
-           ".faces, at `transform` (4x4, (R, t) or None). Returns the object's id.")
+           ".faces, at `transform` (4x4, (R, t) or None), with collision filter bits `group` and `mask` (two "
+           "objects are tested only when each one's group meets the other's mask). Returns the object's id.")
+      .def("set_filter", &PyScene::set_filter, py::arg("name"), py::arg("group"), py::arg("mask"),
+           "Sets the object's collision filter bits (ints in [0, 2**32)): a pair is tested only when "
+           "(group_a & mask_b) and (group_b & mask_a); the query mesh of the _single calls ignores filters.")
+      .def("filter", &PyScene::filter, py::arg("name"), "the object's filter bits: (group, mask)")
       .def("remove_object", &PyScene::remove_object, py::arg("name"))
       .def("set_transform", &PyScene::set_transform, py::arg("name"), py::arg("transform"))
       .def("set_transforms", &PyScene::set_transforms, py::arg("names"), py::arg("transforms"),
@@ -635,6 +730,18 @@ void bind_scene(py::module_& m) {
            py::arg("return_names") = false, py::arg("return_data") = false,
            "The least distance between an object of this scene and one of `other_manager`; with return_names "
            "(name in this scene, name in other).")
+      .def("distance_within_internal", &PyScene::distance_within_internal, py::arg("max_distance"),
+           py::arg("return_data") = false,
+           "Every tested object pair closer than max_distance (> 0; touching pairs at 0): a dict {(name, name) "
+           "sorted: distance} in object order; with return_data also {(name, name): DistanceData}.")
+      .def("distance_within_single", &PyScene::distance_within_single, py::arg("mesh"), py::arg("max_distance"),
+           py::arg("transform") = py::none(), py::arg("return_data") = false,
+           "Every object closer than max_distance to `mesh`: {name: distance}; with return_data also "
+           "{name: DistanceData} (the query object named '__external').")
+      .def("distance_within_other", &PyScene::distance_within_other, py::arg("other_manager"),
+           py::arg("max_distance"), py::arg("return_data") = false,
+           "Every object pair (one here, one in other_manager) closer than max_distance: {(name here, name "
+           "there): distance}; with return_data also {(name here, name there): DistanceData}.")
       .def("in_collision_batch", &PyScene::in_collision_batch, py::arg("mesh"), py::arg("transforms"),
            "in_collision_single(mesh, T, return_names=True)[1] for every T in `transforms` ((N, 4, 4) or "
            "(Rs, ts)), on the scene's threads: a list of sets of names, in transform order.")

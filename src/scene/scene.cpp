@@ -54,6 +54,13 @@ class WorkspacePool {
   std::vector<std::unique_ptr<QueryWorkspace>> free_;
 };
 
+// A slot pair of the pair cache: slots (by index) and their objects' ids, a < b.
+struct SlotPair {
+  std::uint32_t slot_a, slot_b;
+  ObjectId a, b;
+  friend bool operator<(const SlotPair& x, const SlotPair& y) { return std::pair(x.a, x.b) < std::pair(y.a, y.b); }
+};
+
 struct State {
   std::vector<Slot> slots;
   std::unordered_map<ObjectId, std::uint32_t> index;  // id -> slot
@@ -61,7 +68,7 @@ struct State {
   std::unordered_set<std::uint64_t> allowed;
   ObjectId next_id = 0;
 
-  // The top-level tree: a cache brought up to date by prepare() under `mutex`.
+  // The top-level tree and the pair cache: caches brought up to date under `mutex`.
   mutable std::mutex mutex;
   mutable TopTree tree;
   mutable std::vector<Aabb> boxes;  // boxes[slot], as the tree holds them
@@ -70,12 +77,24 @@ struct State {
   mutable std::uint64_t rebuilds = 0;
   mutable std::uint64_t refits = 0;
   mutable double built_cost = 0.0;
+  // The scene's own close pairs kept between queries, as Bullet's btDbvtBroadphase keeps its
+  // overlapping pairs: every slot pair whose boxes are within `pairs_gap`, sorted by ids. An add or
+  // a remove drops it; a move marks the slot, and the next query drops the marked slots' pairs and
+  // finds them again by walking the tree with each marked box (close_items), or makes the whole
+  // list anew by one self walk when that costs less (kIncrementalShare).
+  mutable std::vector<SlotPair> pairs;
+  mutable double pairs_gap = 0.0;
+  mutable bool pairs_valid = false;
+  mutable std::vector<std::uint32_t> moved;  // slots marked since the pairs were made
+  mutable std::vector<char> is_moved;        // is_moved[slot]
+  mutable std::uint64_t pair_walks = 0;
+  mutable std::uint64_t pair_updates = 0;
   mutable WorkspacePool workspaces;  // not copied: scratch only
 
   State() = default;
   State(const State& o)
       : slots(o.slots), index(o.index), names(o.names), allowed(o.allowed), next_id(o.next_id),
-        structure_dirty(true) {}
+        structure_dirty(true), is_moved(o.slots.size(), 0) {}
 
   [[nodiscard]] const Slot& slot(ObjectId id, const char* who) const {
     const auto it = index.find(id);
@@ -89,14 +108,33 @@ struct State {
     return const_cast<Slot&>(static_cast<const State&>(*this).slot(id, who));
   }
 
+  void structure_changed() {
+    structure_dirty = true;
+    pairs_valid = false;
+    moved.clear();
+    is_moved.assign(slots.size(), 0);
+  }
+
+  void mark_moved(std::uint32_t at) {
+    poses_dirty = true;
+    if (!is_moved[at]) {
+      is_moved[at] = 1;
+      moved.push_back(at);
+    }
+  }
+
   void prepare() const {
     const std::lock_guard lock(mutex);
+    prepare_locked();
+  }
+
+  void prepare_locked() const {
     if (structure_dirty) {
       boxes.resize(slots.size());
       for (std::size_t i = 0; i < slots.size(); ++i) boxes[i] = slots[i].box;
       rebuild();
     } else if (poses_dirty) {
-      for (std::size_t i = 0; i < slots.size(); ++i) boxes[i] = slots[i].box;
+      for (const std::uint32_t at : moved) boxes[at] = slots[at].box;
       tree.refit(boxes);
       ++refits;
       // A refit keeps the structure of the poses at the last build; once the boxes have drifted
@@ -110,6 +148,40 @@ struct State {
     tree.build(boxes);
     built_cost = tree.cost();
     ++rebuilds;
+  }
+
+  // One walk per moved box costs about as much as a self walk of the whole tree once a quarter
+  // of the objects moved (measured on scene (d) of the scene benchmark: docs/scenes.md).
+  static constexpr double kIncrementalShare = 0.25;
+
+  // The pair cache for `gap`, up to date. Under `mutex`, after prepare_locked().
+  const std::vector<SlotPair>& close_pairs_locked(double gap) const {
+    const bool incremental = pairs_valid && gap == pairs_gap &&
+                             static_cast<double>(moved.size()) <= kIncrementalShare * static_cast<double>(slots.size());
+    if (incremental && moved.empty()) return pairs;
+    const auto add = [&](std::uint32_t i, std::uint32_t j) {
+      if (slots[i].id > slots[j].id) std::swap(i, j);
+      pairs.push_back({i, j, slots[i].id, slots[j].id});
+    };
+    if (incremental) {
+      std::erase_if(pairs, [&](const SlotPair& p) { return is_moved[p.slot_a] || is_moved[p.slot_b]; });
+      for (const std::uint32_t m : moved) {
+        scene_detail::close_items(tree, boxes[m], gap, [&](std::uint32_t o) {
+          if (o != m && (!is_moved[o] || o > m)) add(m, o);  // a pair of two moved slots once
+        });
+      }
+      ++pair_updates;
+    } else {
+      pairs.clear();
+      scene_detail::close_pairs(tree, tree, true, gap, add);
+      pairs_gap = gap;
+      pairs_valid = true;
+      ++pair_walks;
+    }
+    std::sort(pairs.begin(), pairs.end());
+    for (const std::uint32_t m : moved) is_moved[m] = 0;
+    moved.clear();
+    return pairs;
   }
 };
 
@@ -218,16 +290,16 @@ void check_max_distance(double d) {
 
 // The tested pairs of one scene whose boxes are within `gap`, sorted by (a, b) with a < b.
 std::vector<Job> self_jobs(const State& s, double gap) {
-  s.prepare();
+  const std::lock_guard lock(s.mutex);
+  s.prepare_locked();
   std::vector<Job> jobs;
-  scene_detail::close_pairs(s.tree, s.tree, true, gap, [&](std::uint32_t i, std::uint32_t j) {
-    const Slot* x = &s.slots[i];
-    const Slot* y = &s.slots[j];
-    if (x->id > y->id) std::swap(x, y);
-    if (!filters_meet(x->object, y->object) || s.allowed.contains(scene_detail::pair_key(x->id, y->id))) return;
-    jobs.push_back({x->id, y->id, x, y});
-  });
-  std::sort(jobs.begin(), jobs.end());
+  for (const scene_detail::SlotPair& p : s.close_pairs_locked(gap)) {
+    const Slot* x = &s.slots[p.slot_a];
+    const Slot* y = &s.slots[p.slot_b];
+    if (!filters_meet(x->object, y->object) || (!s.allowed.empty() && s.allowed.contains(scene_detail::pair_key(p.a, p.b))))
+      continue;
+    jobs.push_back({p.a, p.b, x, y});
+  }
   return jobs;
 }
 
@@ -248,12 +320,8 @@ std::vector<Job> cross_jobs(const State& a, const State& b, double gap) {
 // The scene objects whose boxes are within `gap` of the query box, sorted by id.
 std::vector<Job> single_jobs(const State& s, const Aabb& query, double gap) {
   s.prepare();
-  TopTree one;
-  one.build(std::span<const Aabb>(&query, 1));
   std::vector<Job> jobs;
-  scene_detail::close_pairs(s.tree, one, false, gap, [&](std::uint32_t i, std::uint32_t) {
-    jobs.push_back({s.slots[i].id, 0, &s.slots[i], nullptr});
-  });
+  scene_detail::close_items(s.tree, query, gap, [&](std::uint32_t i) { jobs.push_back({s.slots[i].id, 0, &s.slots[i], nullptr}); });
   std::sort(jobs.begin(), jobs.end());
   return jobs;
 }
@@ -362,7 +430,7 @@ ObjectId Scene::add(SceneObject object) {
   if (!slot.object.name.empty()) s.names.emplace(slot.object.name, id);
   s.index.emplace(id, static_cast<std::uint32_t>(s.slots.size()));
   s.slots.push_back(std::move(slot));
-  s.structure_dirty = true;
+  s.structure_changed();
   return id;
 }
 
@@ -386,7 +454,7 @@ void Scene::remove(ObjectId id) {
     s.index[s.slots[at].id] = at;
   }
   s.slots.pop_back();
-  s.structure_dirty = true;
+  s.structure_changed();
 }
 
 void Scene::set_pose(ObjectId id, const Pose& pose) {
@@ -394,7 +462,7 @@ void Scene::set_pose(ObjectId id, const Pose& pose) {
   require_valid_pose(pose, "scene: set_pose", object_label(id, slot.object.name));
   slot.object.pose = pose;
   slot.box = tightbvh::world_bounds(*slot.object.model, pose);
-  state_->poses_dirty = true;
+  state_->mark_moved(state_->index.at(id));
 }
 
 void Scene::set_poses(std::span<const ObjectId> ids, std::span<const Pose> poses) {
@@ -406,11 +474,12 @@ void Scene::set_poses(std::span<const ObjectId> ids, std::span<const Pose> poses
     require_valid_pose(poses[i], "scene: set_poses: entry " + std::to_string(i), object_label(ids[i], slot.object.name));
   }
   for (std::size_t i = 0; i < ids.size(); ++i) {
-    Slot& slot = state_->slot(ids[i], "set_poses");
+    const std::uint32_t at = state_->index.at(ids[i]);
+    Slot& slot = state_->slots[at];
     slot.object.pose = poses[i];
     slot.box = tightbvh::world_bounds(*slot.object.model, poses[i]);
+    state_->mark_moved(at);
   }
-  if (!ids.empty()) state_->poses_dirty = true;
 }
 
 void Scene::set_filter(ObjectId id, std::uint32_t group, std::uint32_t mask) {
@@ -493,6 +562,8 @@ SceneTreeStats Scene::tree_stats() const {
   stats.refits = s.refits;
   stats.cost = s.tree.cost();
   stats.built_cost = s.built_cost;
+  stats.pair_walks = s.pair_walks;
+  stats.pair_updates = s.pair_updates;
   return stats;
 }
 
@@ -531,12 +602,9 @@ std::vector<std::vector<ObjectHit>> collide_batch(const Scene& scene, const Mode
   s.prepare();
   const QueryOptions o = scene_options(options);
   return run_jobs<std::vector<ObjectHit>>(poses.size(), threads, s.workspaces, [&](std::size_t i, QueryWorkspace& workspace) {
-    const Aabb box = world_bounds(model, poses[i]);
-    TopTree one;
-    one.build(std::span<const Aabb>(&box, 1));
     std::vector<std::uint32_t> slots;
-    scene_detail::close_pairs(s.tree, one, false, options.margin,
-                              [&](std::uint32_t slot, std::uint32_t) { slots.push_back(slot); });
+    scene_detail::close_items(s.tree, world_bounds(model, poses[i]), options.margin,
+                              [&](std::uint32_t slot) { slots.push_back(slot); });
     std::sort(slots.begin(), slots.end(), [&](std::uint32_t x, std::uint32_t y) { return s.slots[x].id < s.slots[y].id; });
     std::vector<ObjectHit> hits;
     for (const std::uint32_t slot : slots) {

@@ -316,6 +316,185 @@ def test_errors_name_what_is_wrong():
     assert scene.names == ["a"] and np.array_equal(scene.transform("a"), np.eye(4))
 
 
+def filters_meet(scenes, a, b):
+    """C++ Scene::tested for two objects of `scene` (or of two scenes): each one's group meets the other's mask."""
+    (group_a, mask_a), (group_b, mask_b) = scenes[0].filter(a), scenes[1].filter(b)
+    return bool(group_a & mask_b) and bool(group_b & mask_a)
+
+
+def filtered_scene(seed, count=16, spread=1.6):
+    """random_scene with random filter bits (3 groups), some set by add_object, some by set_filter."""
+    scene, reference, rng = random_scene(seed, count, spread)
+    for i, name in enumerate(scene.names):
+        group, mask = 1 << int(rng.integers(0, 2)), int(rng.choice([1, 2, 3, 3]))
+        if i % 2:
+            mesh, _, transform = reference.objects[name]
+            scene.add_object(name, mesh, transform, group=group, mask=mask)  # replaced: keeps its name
+        else:
+            scene.set_filter(name, group, mask)
+    return scene, reference, rng
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_filters_equal_brute_force(seed):
+    scene, reference, rng = filtered_scene(seed)
+    objects = reference.objects
+    every = touching_pairs(reference)
+    expected = {(a, b) for a, b in every if filters_meet((scene, scene), a, b)}
+    assert expected and expected != every, "the filters should keep some touching pairs and drop others"
+    assert scene.in_collision_internal(return_names=True) == (True, expected)
+    distances = {(a, b): reference.distance(objects[a], objects[b])
+                 for a, b in itertools.combinations(sorted(objects), 2) if filters_meet((scene, scene), a, b)}
+    d, names = scene.min_distance_internal(return_names=True)
+    assert d == pytest.approx(min(distances.values()), abs=1e-12) and names in distances
+    # Filters survive pickling.
+    clone = pickle.loads(pickle.dumps(scene))
+    assert [clone.filter(n) for n in clone.names] == [scene.filter(n) for n in scene.names]
+    assert clone.in_collision_internal(return_names=True)[1] == expected
+    # Every bit set again: every touching pair is back.
+    for name in scene.names:
+        scene.set_filter(name, 0xFFFFFFFF, 0xFFFFFFFF)
+    assert scene.in_collision_internal(return_names=True)[1] == every
+    # The query mesh of in_collision_single ignores the filters, even of objects meeting nothing.
+    for name in scene.names:
+        scene.set_filter(name, 1, 0)
+    assert scene.in_collision_internal() is False
+    probe = box((1.2, 1.2, 1.2))
+    transform = random_transform(rng, 1.0)
+    query = reference.query(probe, transform)
+    assert scene.in_collision_single(probe, transform, return_names=True)[1] == {
+        n for n, o in objects.items() if reference.collide(o, query).hit}
+
+
+def test_filters_must_meet_both_ways():
+    scene = tightbvh.Scene()
+    scene.add_object("a", box(), group=1, mask=2)
+    scene.add_object("b", box(), pose_matrix(np.eye(3), [0.5, 0, 0]), group=2, mask=1)
+    assert scene.in_collision_internal() is True and scene.filter("b") == (2, 1)
+    scene.set_filter("b", 2, 2)  # b's group meets a's mask, a's group no longer meets b's mask
+    assert scene.in_collision_internal() is False and scene.distance_within_internal(1.0) == {}
+    assert scene.min_distance_internal() == math.inf
+    scene.set_filter("b", 3, 1)
+    assert scene.in_collision_internal() is True
+
+
+def test_filters_apply_across_scenes():
+    robot, robot_ref, _ = filtered_scene(1, count=6)
+    world, world_ref, _ = filtered_scene(2, count=8)
+    every = {(a, b) for a, oa in robot_ref.objects.items() for b, ob in world_ref.objects.items()
+             if robot_ref.collide(oa, ob).hit}
+    expected = {(a, b) for a, b in every if filters_meet((robot, world), a, b)}
+    assert expected and expected != every
+    assert robot.in_collision_other(world, return_names=True) == (True, expected)
+    within = robot.distance_within_other(world, 0.3)
+    assert set(within) == {(a, b) for a, oa in robot_ref.objects.items() for b, ob in world_ref.objects.items()
+                           if filters_meet((robot, world), a, b) and robot_ref.distance(oa, ob) < 0.3}
+
+
+def within_brute_force(reference, max_distance, scenes=None):
+    objects = reference.objects
+    found = {}
+    for a, b in itertools.combinations(sorted(objects), 2):
+        if scenes is None or filters_meet(scenes, a, b):
+            d = reference.distance(objects[a], objects[b])
+            if d < max_distance:
+                found[(a, b)] = d
+    return found
+
+
+def assert_same_distances(got, expected):
+    assert set(got) == set(expected)
+    for key, d in expected.items():
+        assert got[key] == pytest.approx(d, rel=1e-12, abs=1e-12), key
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_distance_within_internal_equals_brute_force(seed):
+    scene, reference, _ = random_scene(seed, count=10, spread=2.5)
+    # Thresholds halfway between consecutive pair distances: each picks one more pair.
+    every = sorted(set(within_brute_force(reference, math.inf).values()))
+    thresholds = [(x + y) / 2 for x, y in zip(every, every[1:])][::7]
+    sizes = set()
+    for max_distance in thresholds:
+        expected = within_brute_force(reference, max_distance)
+        got = scene.distance_within_internal(max_distance)
+        assert_same_distances(got, expected)
+        sizes.add(len(expected))
+        # In object order (the names were added in sorted order).
+        assert list(got) == sorted(got)
+    assert len(sizes) == len(thresholds) > 3, "each threshold should pick a different pair set"
+    # Touching pairs are at 0, and equal in_collision_internal's pairs.
+    touching = {k for k, d in scene.distance_within_internal(0.05).items() if d == 0.0}
+    assert touching == scene.in_collision_internal(return_names=True)[1]
+    distances, data = scene.distance_within_internal(0.5, return_data=True)
+    assert distances.keys() == data.keys()
+    for (a, b), d in data.items():
+        assert d.names == {a, b} and d.distance == distances[(a, b)]
+        assert np.linalg.norm(d.point(a) - d.point(b)) == pytest.approx(d.distance, abs=1e-9)
+    # Allowed pairs and filters are not reported.
+    allowed = next(iter(distances))
+    scene.allow(*allowed)
+    assert set(scene.distance_within_internal(0.5)) == set(distances) - {allowed}
+    scene, reference, _ = filtered_scene(seed, count=10, spread=2.5)
+    assert_same_distances(scene.distance_within_internal(0.5), within_brute_force(reference, 0.5, (scene, scene)))
+
+
+def test_distance_within_single_and_other_equal_brute_force():
+    scene, reference, rng = random_scene(6, count=8, spread=2.0)
+    probe = tet()
+    sizes = set()
+    for _ in range(12):
+        transform = random_transform(rng, 2.0)
+        query = reference.query(probe, transform)
+        expected = {n: d for n, o in reference.objects.items() if (d := reference.distance(o, query)) < 0.6}
+        got = scene.distance_within_single(probe, 0.6, transform)
+        assert_same_distances(got, expected)
+        sizes.add(min(len(expected), 2))
+        got, data = scene.distance_within_single(probe, 0.6, transform=transform, return_data=True)
+        assert all(d.names == {n, "__external"} and d.distance == got[n] for n, d in data.items())
+    assert sizes == {0, 1, 2}
+    other, other_ref, _ = random_scene(7, count=5, spread=2.5)
+    expected = {(a, b): d for a, oa in reference.objects.items() for b, ob in other_ref.objects.items()
+                if (d := reference.distance(oa, ob)) < 0.4}
+    assert expected
+    assert_same_distances(scene.distance_within_other(other, 0.4), expected)
+    assert set(other.distance_within_other(scene, 0.4)) == {(b, a) for a, b in expected}
+    distances, data = scene.distance_within_other(other, 0.4, return_data=True)
+    assert all(data[k].distance == distances[k] for k in distances)
+    assert tightbvh.Scene().distance_within_internal(1.0) == {}
+
+
+def test_filter_and_distance_within_errors():
+    scene = tightbvh.Scene()
+    scene.add_object("a", box())
+    with pytest.raises(ValueError, match="add_object: group: must be in"):
+        scene.add_object("b", box(), group=-1)
+    with pytest.raises(ValueError, match="add_object: mask: must be in"):
+        scene.add_object("b", box(), mask=1 << 32)
+    with pytest.raises(TypeError, match="set_filter: group: expected an int"):
+        scene.set_filter("a", 1.0, 1)
+    with pytest.raises(ValueError, match="set_filter: 'x' not in the scene"):
+        scene.set_filter("x", 1, 1)
+    with pytest.raises(ValueError, match="max_distance must be > 0"):
+        scene.distance_within_internal(0.0)
+    with pytest.raises(ValueError, match="max_distance must be > 0"):
+        scene.distance_within_single(box(), float("nan"))
+    with pytest.raises(ValueError, match="other_manager"):
+        scene.distance_within_other(scene, 1.0)
+    assert scene.names == ["a"] and scene.filter("a") == (1, 0xFFFFFFFF)
+
+
+def test_filters_and_clearance_example():
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
+    script = SOURCE_DIR / "examples" / "python" / "scene_filters_and_clearance.py"
+    out = subprocess.run([sys.executable, script], check=True, capture_output=True, text=True, env=env).stdout
+    assert out.splitlines() == [
+        "touching: False",
+        "closer than 0.15: link0-table 0.020, link1-shelf 0.100, link1-table 0.020",
+        "with the wall: link0-table 0.020, link1-shelf 0.100, link1-table 0.020, shelf-wall 0.050",
+        "4 pairs within 0.15; pair queries agree"]
+
+
 def test_trimesh_switch_example():
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
     script = SOURCE_DIR / "examples" / "python" / "scene_trimesh_switch.py"
@@ -401,7 +580,10 @@ def test_malformed_scene_states_are_errors():
     good = (1, False, (("a", model, np.eye(4)),), ())
     scene = tightbvh.Scene.__new__(tightbvh.Scene)
     scene.__setstate__(good)
-    assert scene.names == ["a"]
+    assert scene.names == ["a"] and scene.filter("a") == (1, 0xFFFFFFFF)  # 3 fields: the default filter bits
+    scene = tightbvh.Scene.__new__(tightbvh.Scene)
+    scene.__setstate__((1, False, (("a", model, np.eye(4), 4, 6),), ()))
+    assert scene.filter("a") == (4, 6)
     bad_pose = np.eye(4)
     bad_pose[0, 0] = 3.0
     cases = [
@@ -410,6 +592,8 @@ def test_malformed_scene_states_are_errors():
         ((1, False, (("a", model, bad_pose),), ()), ValueError, "transform"),
         ((1, False, (("a", model, np.eye(4)),), (("a", "x"),)), ValueError, "'x' not in the scene"),
         ((1, False, ()), ValueError, "expected 4 fields"),
+        ((1, False, (("a", model, np.eye(4), -1, 1),), ()), ValueError, "'a': group"),
+        ((1, False, (("a", model, np.eye(4), 1, "all"),), ()), TypeError, "'a': mask"),
     ]
     for state, error, message in cases:
         with pytest.raises(error, match=message):

@@ -205,6 +205,54 @@ TEST(Scene, SelfQueriesEqualBruteForceThroughChurn) {
   }
 }
 
+// The pair cache (scene.cpp): after a few objects move, the next query updates the cached pairs
+// from the moved boxes alone; after many move, or with another margin, it walks the whole tree.
+// Either way the answer must equal brute force, also when filters and allowed pairs change in
+// between (they are applied after the cache).
+TEST(Scene, PairCacheFollowsMovesFiltersAndMargins) {
+  RandomScene r(scene_test::mixed_models(), 7, 60, 3.5);
+  Scene& scene = r.scene;
+  const QueryOptions o{.mode = QueryMode::all_pairs};
+  expect_same(collide(scene, o), brute_collide(scene, nullptr, o), "initial");
+  SceneTreeStats before = scene.tree_stats();
+  for (int round = 0; round < 12; ++round) {
+    const std::string where = "round " + std::to_string(round);
+    auto ids = scene.ids();
+    // Rounds 0-9 move 1 to 10 objects (at most a sixth of 60: an update); round 10 moves all
+    // of them (a walk); round 11 moves none.
+    const std::size_t count = round < 10 ? static_cast<std::size_t>(round + 1) : round == 10 ? ids.size() : 0;
+    std::vector<ObjectId> moved;
+    std::vector<Pose> poses;
+    for (std::size_t k = 0; k < count; ++k) {
+      moved.push_back(round == 10 ? ids[k] : ids[r.rng() % ids.size()]);
+      Pose p = scene.object(moved.back()).pose;
+      p.translation += Vec3(0.3, -0.2, 0.25) * (static_cast<double>(r.rng() % 5) - 2.0);
+      poses.push_back(p);
+    }
+    scene.set_poses(moved, poses);
+    if (round == 4) scene.set_filter(ids[3], 1u, 0u);  // meets nothing
+    if (round == 6) r.allow_some(4);
+    expect_same(collide(scene, o), brute_collide(scene, nullptr, o), where);
+    const SceneTreeStats after = scene.tree_stats();
+    if (round < 10) {
+      EXPECT_EQ(after.pair_walks, before.pair_walks) << where;
+      EXPECT_GT(after.pair_updates, before.pair_updates) << where;
+    } else if (round == 10) {
+      EXPECT_EQ(after.pair_walks, before.pair_walks + 1) << where;
+    } else {
+      EXPECT_EQ(after.pair_walks, before.pair_walks) << where;
+      EXPECT_EQ(after.pair_updates, before.pair_updates) << where;
+    }
+    before = after;
+  }
+  // Another margin walks the tree again, then the cache serves it.
+  const QueryOptions wide{.mode = QueryMode::all_pairs, .margin = 0.05};
+  expect_same(collide(scene, wide), brute_collide(scene, nullptr, wide), "margin 0.05");
+  EXPECT_EQ(scene.tree_stats().pair_walks, before.pair_walks + 1);
+  expect_same(collide(scene, wide), brute_collide(scene, nullptr, wide), "margin 0.05 again");
+  EXPECT_EQ(scene.tree_stats().pair_walks, before.pair_walks + 1);
+}
+
 // Boundary cases the random scenes rarely make: unit boxes on a lattice touch their neighbours
 // exactly (faces, edges, corners), and with a spacing of 1 + margin they are exactly `margin`
 // apart. The top level must keep every such pair.

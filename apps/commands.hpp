@@ -21,6 +21,7 @@ void add_collide_command(CLI::App& app);   // cmd_collide.cpp (--view: apps/view
 void add_distance_command(CLI::App& app);  // cmd_distance.cpp
 void add_view_command(CLI::App& app);      // cmd_view.cpp (apps/view/)
 void add_scene_command(CLI::App& app);     // cmd_scene.cpp (scene files, scene_file.hpp)
+void add_points_command(CLI::App& app);    // cmd_points.cpp (point queries, point_query.hpp)
 
 // A finite number > 0, else "--leaf-size: must be a positive number, got '0'" (CLI11's
 // PositiveNumber says so by printing DBL_MAX in full).

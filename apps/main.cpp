@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   tightbvh::cli::add_distance_command(app);
   tightbvh::cli::add_view_command(app);
   tightbvh::cli::add_scene_command(app);
+  tightbvh::cli::add_points_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -68,7 +68,7 @@ std::vector<std::string> listed_subcommands() {
 
 TEST_F(CliHelp, EverySubcommandShowsAnExampleThatRuns) {
   // In this order: inspect reads the tree that build's example writes.
-  const std::vector<std::string> commands{"info", "fit", "build", "inspect", "collide", "distance", "view", "scene"};
+  const std::vector<std::string> commands{"info", "fit", "build", "inspect", "collide", "distance", "view", "scene", "points"};
   ASSERT_EQ(commands, listed_subcommands()) << "a subcommand was added: give it an example and list it here";
   for (const std::string& command : commands) {
     SCOPED_TRACE(command);

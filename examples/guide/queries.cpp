@@ -1,14 +1,18 @@
 // The user guide's queries: poses, first_hit and all_pairs, a safety margin, distance with an
-// upper bound, many poses with one workspace or in one batch, and a coherent sequence with a
-// QueryCache. Run by the tests (ctest guide_queries).
+// upper bound, many poses with one workspace or in one batch, a coherent sequence with a
+// QueryCache, and point queries (checked against the brute force). Run by the tests (ctest
+// guide_queries).
 #include <tightbvh/build.hpp>
 #include <tightbvh/collide.hpp>
 #include <tightbvh/distance.hpp>
 #include <tightbvh/mesh.hpp>
+#include <tightbvh/model.hpp>
+#include <tightbvh/point_query.hpp>
 #include <tightbvh/pose_text.hpp>
 #include <tightbvh/query_cache.hpp>
 #include <tightbvh/query_workspace.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -66,5 +70,30 @@ int main() {
                         .pairs.size();
   std::printf("%zu of %zu poses hit (batch: %zu results), %zu pairs along the sequence\n", hits, poses.size(),
               batch.size(), cached_pairs);
+
+  // Point queries: a grid of points around the knot, each point's closest point on the surface,
+  // its signed distance (negative inside) and whether it is inside. A Model keeps the mesh's
+  // closedness, which the sign needs.
+  const tightbvh::Model knot(mesh_a);
+  std::vector<tightbvh::Vec3> points;
+  for (int i = 0; i < 216; ++i) points.emplace_back(0.2 * (i % 6) - 0.5, 0.2 * (i / 6 % 6) - 0.5, 0.2 * (i / 36) - 0.5);
+  const std::vector<tightbvh::ClosestPoint> closest = tightbvh::closest_points(knot, pose_a, points);
+  const std::vector<tightbvh::ClosestPoint> sdf = tightbvh::signed_distance(knot, pose_a, points);
+  const std::vector<tightbvh::Containment> where = tightbvh::contains(knot, pose_a, points);
+  // closest[i].point lies on triangle closest[i].triangle at closest[i].barycentric, closest[i].distance away.
+
+  // The check: the brute force over every triangle, and the sign against contains.
+  const std::vector<tightbvh::ClosestPoint> brute = tightbvh::closest_points_brute_force(mesh_a, pose_a, points);
+  std::size_t inside = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const bool in = where[i] == tightbvh::Containment::inside;
+    inside += in ? 1 : 0;
+    if (closest[i].distance != brute[i].distance || closest[i].triangle != brute[i].triangle ||
+        (sdf[i].distance < 0.0) != in || std::abs(sdf[i].distance) != closest[i].distance) {
+      std::printf("point queries: point %zu disagrees with the brute force\n", i);
+      return 1;
+    }
+  }
+  std::printf("point queries: %zu points, %zu inside, the brute force agrees\n", points.size(), inside);
   return 0;
 }

@@ -31,11 +31,6 @@ namespace {
 // The name trimesh gives the query object of in_collision_single and min_distance_single.
 constexpr const char* kExternal = "__external";
 
-struct PyModel {
-  ModelPtr model;
-  std::optional<std::string> fitter;
-};
-
 // The model's mesh as a tightbvh.Mesh that shares the model (no copy; Meshes are immutable).
 std::shared_ptr<Mesh> model_mesh(const ModelPtr& model) {
   return {model, const_cast<Mesh*>(&model->mesh())};

@@ -10,6 +10,7 @@
 
 #include "tightbvh/build.hpp"
 #include "tightbvh/mesh.hpp"
+#include "tightbvh/model.hpp"
 #include "tightbvh/tree.hpp"
 
 namespace tightbvh::python {
@@ -21,6 +22,12 @@ struct PyTree {
   std::shared_ptr<const Mesh> mesh;       // null for a tree loaded without one
   std::optional<BuildStats> build_stats;  // built trees only
   std::optional<std::string> fitter;      // built trees only
+};
+
+// tightbvh.Model (bind_scene.cpp; bind_points.cpp adds its point queries).
+struct PyModel {
+  ModelPtr model;
+  std::optional<std::string> fitter;  // built models only
 };
 
 // The mesh to use for `tree`: `mesh` converted (to_mesh), or the tree's own mesh when `mesh` is
@@ -37,5 +44,6 @@ void bind_tree(py::module_& m);
 void bind_collide(py::module_& m);
 void bind_distance(py::module_& m);
 void bind_scene(py::module_& m);
+void bind_points(py::module_& m);  // after bind_scene: methods of tightbvh.Model
 
 }  // namespace tightbvh::python

@@ -24,4 +24,5 @@ PYBIND11_MODULE(_tightbvh, m) {
   tightbvh::python::bind_collide(m);
   tightbvh::python::bind_distance(m);
   tightbvh::python::bind_scene(m);
+  tightbvh::python::bind_points(m);
 }

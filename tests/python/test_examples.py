@@ -50,3 +50,9 @@ def test_collide_many_poses_equals_single_queries():
     assert last.startswith("64 poses on 2 threads: ") and last.endswith("equal to 64 single queries")
     touching, apart = int(last.split()[5]), int(last.split()[7])
     assert touching > 0 and apart > 0 and touching + apart == 64
+
+
+def test_point_queries_agree_with_brute_force():
+    lines = run("point_queries.py").splitlines()
+    assert lines[0].startswith("2000 points: ") and int(lines[0].split()[2]) > 0
+    assert lines[-1] == "brute force and signs: agree"

@@ -1,5 +1,6 @@
 // tightbvh-scene-vs-peers: a scene file (scene_file.hpp) collided by tightbvh's Scene, FCL's
-// DynamicAABBTreeCollisionManager (BVHModel<OBBRSS> objects) and Bullet's btCollisionWorld with
+// DynamicAABBTreeCollisionManager (BVHModel<OBBRSS> objects: FCL's own trees, and ours exported into
+// FCL, engine fcl-export) and Bullet's btCollisionWorld with
 // btDbvtBroadphase and btGImpactMeshShape objects. Every engine's touching object pairs, for the
 // initial poses and after every frame of moves, are checked against brute force: the pair query
 // collide(model_a, pose_a, model_b, pose_b) on every tested object pair, skipping only pairs
@@ -47,6 +48,7 @@
 #include "../query/bullet_shape.hpp"  // BulletShape: the same Bullet setup as tightbvh-bench
 #include "../thread_clock.hpp"
 #include "tightbvh/error.hpp"
+#include "tightbvh/fcl/export.hpp"
 #include "tightbvh/model.hpp"
 #include "tightbvh/scene.hpp"
 #include "tightbvh/scene_file.hpp"
@@ -123,9 +125,15 @@ class TightbvhEngine final : public Engine {
 class FclEngine final : public Engine {
  public:
   using Bv = fcl::OBBRSS<double>;
-  explicit FclEngine(const SceneData& d) : d_(d) {
+  // exported: each model's tree as tightbvh built it, exported into FCL (to_fcl_obbrss,
+  // tightbvh/fcl/export.hpp); otherwise FCL's own tree (its default splitter and fitter).
+  FclEngine(const SceneData& d, bool exported) : d_(d) {
     std::map<const Model*, std::shared_ptr<fcl::BVHModel<Bv>>> geometry;
-    for (const ModelPtr& m : d.distinct) {  // FCL's own tree (its default splitter and fitter)
+    for (const ModelPtr& m : d.distinct) {
+      if (exported) {
+        geometry[m.get()] = to_fcl_obbrss(m->tree(), m->mesh());
+        continue;
+      }
       auto g = std::make_shared<fcl::BVHModel<Bv>>();
       std::vector<fcl::Vector3<double>> vertices(m->mesh().vertices.begin(), m->mesh().vertices.end());
       std::vector<fcl::Triangle> triangles;
@@ -436,7 +444,7 @@ int run(int argc, char** argv) {
   app.add_option("--json", json_path, "write the rows as JSON to this file");
   app.add_option("--reps", reps, "repetitions (median)")->check(CLI::PositiveNumber);
   app.add_option("--min-seconds", min_seconds, "without frames: CPU seconds per repetition");
-  app.add_option("--engines", only, "subset of: tightbvh fcl bullet")->delimiter(',');
+  app.add_option("--engines", only, "subset of: tightbvh fcl fcl-export bullet")->delimiter(',');
   std::size_t memory_objects = 0, memory_models = 10;
   app.add_option("--memory-objects", memory_objects, "also report the memory of this many objects sharing models");
   app.add_option("--memory-models", memory_models, "with --memory-objects: how many models they share")
@@ -483,7 +491,8 @@ int run(int argc, char** argv) {
   std::vector<Row> rows;
   const std::vector<std::pair<std::string, std::function<std::unique_ptr<Engine>()>>> engines = {
       {"tightbvh", [&] { return std::make_unique<TightbvhEngine>(d, file.scene); }},
-      {"fcl", [&] { return std::make_unique<FclEngine>(d); }},
+      {"fcl", [&] { return std::make_unique<FclEngine>(d, false); }},
+      {"fcl-export", [&] { return std::make_unique<FclEngine>(d, true); }},
       {"bullet", [&] { return std::make_unique<BulletEngine>(d); }},
   };
   for (const auto& [name, make] : engines) {

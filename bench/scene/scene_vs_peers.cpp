@@ -1,4 +1,4 @@
-// tightbvh-scene-vs-peers: a scene file (scene_file.hpp) collided by tightbvh's Scene, FCL's
+// tightbvh-bench --scene: a scene file (scene_file.hpp) collided by tightbvh's Scene, FCL's
 // DynamicAABBTreeCollisionManager (BVHModel<OBBRSS> objects: FCL's own trees, and ours exported into
 // FCL, engine fcl-export) and Bullet's btCollisionWorld with
 // btDbvtBroadphase and btGImpactMeshShape objects. Every engine's touching object pairs, for the
@@ -12,7 +12,7 @@
 // runs every frame: the moves (set_poses; setTransform + computeAABB + update; setWorldTransform)
 // and the self-collision that follows (frames/s).
 //
-//     tightbvh-scene-vs-peers --scene out/scenes/a-touching.json [--json OUT] [--reps N] [--engines tightbvh,fcl]
+//     tightbvh-bench --scene out/scenes/a-touching.json [--json OUT] [--reps N] [--engines tightbvh,fcl]
 //                             [--memory-objects N --memory-models M]
 //
 // Memory: the scene's Scene::model_bytes() (each distinct model once) and Scene::own_bytes() (the
@@ -45,7 +45,8 @@
 #include <utility>
 #include <vector>
 
-#include "../query/bullet_shape.hpp"  // BulletShape: the same Bullet setup as tightbvh-bench
+#include "scene_vs_peers.hpp"
+#include "../query/bullet_shape.hpp"  // BulletShape: the same Bullet setup as the pair benchmark
 #include "../thread_clock.hpp"
 #include "tightbvh/error.hpp"
 #include "tightbvh/fcl/export.hpp"
@@ -435,7 +436,8 @@ Scene memory_scene(const SceneData& d, std::size_t count, std::size_t models) {
 }
 
 int run(int argc, char** argv) {
-  CLI::App app{"tightbvh's Scene vs FCL's dynamic AABB tree manager and Bullet's btCollisionWorld on a scene file"};
+  CLI::App app{"tightbvh-bench --scene: tightbvh's Scene vs FCL's dynamic AABB tree manager and Bullet's "
+               "btCollisionWorld on a scene file"};
   std::string scene_path, json_path;
   int reps = 3;
   double min_seconds = 0.3;
@@ -559,13 +561,14 @@ int run(int argc, char** argv) {
 }
 
 }  // namespace
-}  // namespace tightbvh::bench
 
-int main(int argc, char** argv) {
+int run_scene_bench(int argc, char** argv) {
   try {
-    return tightbvh::bench::run(argc, argv);
+    return run(argc, argv);
   } catch (const std::exception& e) {
-    std::cerr << "tightbvh-scene-vs-peers: " << e.what() << "\n";
+    std::cerr << "tightbvh-bench --scene: " << e.what() << "\n";
     return 2;
   }
 }
+
+}  // namespace tightbvh::bench

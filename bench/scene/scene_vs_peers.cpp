@@ -330,29 +330,38 @@ std::size_t mismatches(const PairsPerFrame& got, const PairsPerFrame& want) {
   return count;
 }
 
-// Without frames, checks/s when every check follows a move of every object (to the pose it has:
-// each engine then updates its whole broad phase, and tightbvh's pair cache is made anew), the
-// median of `reps` repetitions of thread CPU time.
+// Checks/s over at least `min_seconds` of thread CPU time, in batches that double between clock
+// reads: reading the thread CPU clock is a system call (about 2 us here), a third of one check on
+// the small scenes. With `move_all`, each check follows a move of every object to the pose it has
+// (e.reset()): each engine then updates its broad phase for every object, and tightbvh's pair
+// cache is made anew.
+double checks_per_second(Engine& e, bool move_all, double min_seconds, std::vector<IndexPair>& pairs) {
+  std::size_t count = 0;
+  const double t0 = thread_seconds();
+  double t = 0;
+  for (std::size_t batch = 1; t < min_seconds; batch *= 2) {
+    for (std::size_t k = 0; k < batch; ++k) {
+      if (move_all) e.reset();
+      pairs.clear();
+      e.check(pairs);
+    }
+    count += batch;
+    t = thread_seconds() - t0;
+  }
+  return double(count) / t;
+}
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values[values.size() / 2];
+}
+
+// Without frames, checks/s with every object moved before each check: the median of `reps`.
 double rate_all_moved(Engine& e, int reps, double min_seconds) {
   std::vector<double> rates;
   std::vector<IndexPair> pairs;
-  for (int r = 0; r < reps; ++r) {
-    std::size_t count = 0;
-    const double t0 = thread_seconds();
-    double t = 0;
-    for (std::size_t batch = 1; t < min_seconds; batch *= 2) {
-      for (std::size_t k = 0; k < batch; ++k) {
-        e.reset();
-        pairs.clear();
-        e.check(pairs);
-      }
-      count += batch;
-      t = thread_seconds() - t0;
-    }
-    rates.push_back(double(count) / t);
-  }
-  std::sort(rates.begin(), rates.end());
-  return rates[rates.size() / 2];
+  for (int r = 0; r < reps; ++r) rates.push_back(checks_per_second(e, true, min_seconds, pairs));
+  return median(rates);
 }
 
 // Checks/s of the unchanged scene (no frames) or frames/s, median of `reps` repetitions of
@@ -364,20 +373,7 @@ double rate(Engine& e, const SceneData& d, int reps, double min_seconds) {
     e.reset();
     if (d.frames.empty()) {
       e.check(pairs);  // brings lazily built structures up to date outside the timing
-      // Batches of doubling size between clock reads: reading the thread CPU clock is a system
-      // call (about 2 us here), a third of one check on the small scenes.
-      std::size_t count = 0;
-      const double t0 = thread_seconds();
-      double t = 0;
-      for (std::size_t batch = 1; t < min_seconds; batch *= 2) {
-        for (std::size_t k = 0; k < batch; ++k) {
-          pairs.clear();
-          e.check(pairs);
-        }
-        count += batch;
-        t = thread_seconds() - t0;
-      }
-      rates.push_back(double(count) / t);
+      rates.push_back(checks_per_second(e, false, min_seconds, pairs));
     } else {
       pairs.clear();
       e.check(pairs);
@@ -390,8 +386,7 @@ double rate(Engine& e, const SceneData& d, int reps, double min_seconds) {
       rates.push_back(double(d.frames.size()) / (thread_seconds() - t0));
     }
   }
-  std::sort(rates.begin(), rates.end());
-  return rates[rates.size() / 2];
+  return median(rates);
 }
 
 // The memory of `scene`: its models counted once, the scene layer, and the models counted per object.

@@ -15,6 +15,7 @@
 #include "tightbvh/error.hpp"
 #include "tightbvh/model.hpp"
 #include "tightbvh/point_query.hpp"
+#include "tightbvh/query_cache.hpp"
 #include "tightbvh/tri_tri.hpp"
 
 namespace tightbvh {
@@ -219,6 +220,10 @@ TEST(Contact, MeshCurvesLieOnBothAndClose) {
     const QueryResult by_model = collide(Model(ma), pa, Model(mb), pb, options);  // passed through
     ASSERT_EQ(by_model.contacts.size(), r.contacts.size());
     EXPECT_EQ(by_model.curve_length, r.curve_length);
+    QueryCache cache;
+    const QueryResult cached = collide(ta, ma, pa, tb, mb, pb, options, cache);
+    ASSERT_EQ(cached.contacts.size(), r.contacts.size());
+    EXPECT_EQ(cached.curve_length, r.curve_length);
     ASSERT_EQ(r.contacts.size(), r.pairs.size());
     ASSERT_FALSE(r.pairs.empty());
     EXPECT_EQ(r.curve_length, brute.curve_length);

@@ -184,14 +184,17 @@ void bind_collide(py::module_& m) {
       .def_property_readonly("inside", [](const PyResult& r) { return std::string(to_string(r.inside)); },
                              "solid only: 'b_in_a' or 'a_in_b' when the hit is a containment, else 'none'")
       .def_property_readonly("segments", [](const PyResult& r) { return contact_field(r, 0); },
-                             "contacts=True: (K, 2, 3) float64, the contact of each pair (world frame): a segment's ends, "
-                             "a point twice, NaN for a coplanar polygon (see polygons); else None")
+                             "contacts=True: (K, 2, 3) float64, the contact of each pair (world frame): "
+                             "a segment's ends, a point twice, NaN for a coplanar polygon (see polygons); else None")
       .def_property_readonly("normals_a", [](const PyResult& r) { return contact_field(r, 1); },
-                             "contacts=True: (K, 3) unit face normals of A's triangles (world frame; zero if degenerate)")
+                             "contacts=True: (K, 3) unit face normals of A's triangles (world frame; zero if "
+                             "degenerate)")
       .def_property_readonly("normals_b", [](const PyResult& r) { return contact_field(r, 2); },
-                             "contacts=True: (K, 3) unit face normals of B's triangles (world frame; zero if degenerate)")
+                             "contacts=True: (K, 3) unit face normals of B's triangles (world frame; zero if "
+                             "degenerate)")
       .def_property_readonly("kind", [](const PyResult& r) { return contact_field(r, 3); },
-                             "contacts=True: (K,) uint8, 1 point, 2 segment, 3 polygon (tightbvh.CONTACT_KINDS names them)")
+                             "contacts=True: (K,) uint8, 1 point, 2 segment, 3 polygon (tightbvh.CONTACT_KINDS "
+                             "names them)")
       .def_property_readonly("coplanar", [](const PyResult& r) { return contact_field(r, 4); },
                              "contacts=True: (K,) bool, the pair's triangles lie in one plane (exact)")
       .def_property_readonly("curve_length", [](const PyResult& r) { return contact_field(r, 5); },

@@ -15,8 +15,8 @@ void check_contacts(const char* what, const QueryOptions& options) {
   if (options.mode != QueryMode::all_pairs)
     throw InputError(std::string(what) + ": contacts needs mode all_pairs (first_hit reports one pair only)");
   if (options.margin != 0.0)
-    throw InputError(std::string(what) + ": contacts needs margin 0 (pairs within a margin need not touch), got margin " +
-                     std::to_string(options.margin));
+    throw InputError(std::string(what) + ": contacts needs margin 0 (pairs within a margin need not touch), got " +
+                     "margin " + std::to_string(options.margin));
 }
 
 void add_contacts(QueryResult& result, const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb) {

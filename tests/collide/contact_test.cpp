@@ -151,7 +151,8 @@ TEST(Contact, RandomTouchingCornersArePoints) {
   std::uniform_int_distribution<int> k(1, 63);
   for (int trial = 0; trial < 500; ++trial) {
     const Vec3 touch(k(rng) / 256.0, k(rng) / 256.0, 0);  // inside kBase (x + y < 2)
-    const Tri b{touch, Vec3(k(rng) / 32.0, k(rng) / 32.0, k(rng) / 64.0), Vec3(-k(rng) / 32.0, k(rng) / 32.0, k(rng) / 64.0)};
+    const Tri b{touch, Vec3(k(rng) / 32.0, k(rng) / 32.0, k(rng) / 64.0),
+                Vec3(-k(rng) / 32.0, k(rng) / 32.0, k(rng) / 64.0)};
     const Contact c = triangle_contact(kBase, b);
     ASSERT_EQ(c.kind, ContactKind::point);
     EXPECT_EQ(c.points[0], touch);

@@ -1,13 +1,13 @@
 """Python's overhead on scene queries: a scene file (the format of include/tightbvh/scene_file.hpp)
 loaded through tightbvh.Model and tightbvh.Scene and self-collided with in_collision_internal(),
-against the same scene in C++ (tightbvh-scene-vs-peers --engines tightbvh), alternating, repeated;
+against the same scene in C++ (tightbvh-bench --scene ... --engines tightbvh), alternating, repeated;
 prints the medians and the ratio of Python's time per check (or frame) to C++'s.
 
     PYTHONPATH=build/python /usr/bin/python3 bench/python/scene_bench.py \\
-        [--scenes out/scenes/a-touching.json,...] [--exe build/bin/tightbvh-scene-vs-peers] \\
+        [--scenes out/scenes/a-touching.json,...] [--exe build/bin/tightbvh-bench] \\
         [--rounds 3] [--min-seconds 0.3] [--json FILE]
 
-Both sides time what tightbvh-scene-vs-peers times, on one thread, in thread CPU time (which other
+Both sides time what tightbvh-bench --scene times, on one thread, in thread CPU time (which other
 processes on a shared machine do not inflate): without frames, repeated self-collisions of the
 unchanged scene (checks/s), after one untimed check; with frames, every frame's moves
 (set_transforms with an (N, 4, 4) array, prepared before the timing) and the self-collision that
@@ -72,7 +72,7 @@ def touching(scene, names, initial, frames):
 
 
 def python_rate(scene, names, initial, frames, min_seconds):
-    """Checks/s or frames/s, as tightbvh-scene-vs-peers's rate() for one repetition."""
+    """Checks/s or frames/s, as tightbvh-bench --scene's rate() for one repetition."""
     scene.set_transforms(names, initial)
     scene.in_collision_internal()  # brings the top-level tree up to date outside the timing
     if not frames:  # batches of doubling size between clock reads (a system call), as in C++
@@ -105,7 +105,7 @@ def cpp_run(args, scene_path, out):
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--scenes", default=SCENES, help="comma-separated scene files")
-    parser.add_argument("--exe", default=str(ROOT / "build" / "bin" / "tightbvh-scene-vs-peers"))
+    parser.add_argument("--exe", default=str(ROOT / "build" / "bin" / "tightbvh-bench"))
     parser.add_argument("--rounds", type=int, default=3, help="C++ then Python, this many times (medians)")
     parser.add_argument("--min-seconds", type=float, default=0.3, help="without frames: CPU seconds per repetition")
     parser.add_argument("--json", type=pathlib.Path, help="write the settings and rows to this file")

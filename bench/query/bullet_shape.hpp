@@ -1,6 +1,6 @@
 #pragma once
 // A Bullet GImpact shape over a tightbvh mesh, margin 0: the one setup of Bullet as a peer, shared
-// by tightbvh-bench (engines_bullet.cpp) and tightbvh-scene-vs-peers. Bullet keeps pointers into
+// by tightbvh-bench's pair queries (engines_bullet.cpp) and its scenes (bench/scene/scene_vs_peers.cpp). Bullet keeps pointers into
 // the vertex and index arrays, so they live here with the shape.
 #include <btBulletCollisionCommon.h>
 #include <BulletCollision/Gimpact/btGImpactShape.h>

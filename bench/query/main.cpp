@@ -10,6 +10,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 #include <CLI/CLI.hpp>
 
@@ -18,6 +19,7 @@
 #include "output.hpp"
 #include "poses.hpp"
 #include "report.hpp"
+#include "../scene/scene_vs_peers.hpp"
 
 namespace tb = tightbvh::bench;
 using tightbvh::Pose;
@@ -404,7 +406,12 @@ void write_outputs(const Options& o, const tb::Input& input, const tb::RunInfo& 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"tightbvh-bench: tree-vs-tree collision queries, tightbvh vs FCL, Bullet and ODE"};
+  // Whole scenes are another benchmark with its own options (bench/scene/scene_vs_peers.cpp).
+  for (int i = 1; i < argc; ++i)
+    if (std::string_view(argv[i]) == "--scene" || std::string_view(argv[i]).starts_with("--scene="))
+      return tightbvh::bench::run_scene_bench(argc, argv);
+  CLI::App app{"tightbvh-bench: tree-vs-tree collision queries, tightbvh vs FCL, Bullet and ODE\n"
+               "(tightbvh-bench --scene SCENE.json [--json OUT]: whole scenes; --scene FILE --help for its options)"};
   Options o;
   add_options(app, o);
   CLI11_PARSE(app, argc, argv);

@@ -1,5 +1,6 @@
-// tightbvh-scene-vs-peers: a scene file (scene_file.hpp) collided by tightbvh's Scene, FCL's
-// DynamicAABBTreeCollisionManager (BVHModel<OBBRSS> objects) and Bullet's btCollisionWorld with
+// tightbvh-bench --scene: a scene file (scene_file.hpp) collided by tightbvh's Scene, FCL's
+// DynamicAABBTreeCollisionManager (BVHModel<OBBRSS> objects: FCL's own trees, and ours exported into
+// FCL, engine fcl-export) and Bullet's btCollisionWorld with
 // btDbvtBroadphase and btGImpactMeshShape objects. Every engine's touching object pairs, for the
 // initial poses and after every frame of moves, are checked against brute force: the pair query
 // collide(model_a, pose_a, model_b, pose_b) on every tested object pair, skipping only pairs
@@ -11,7 +12,7 @@
 // runs every frame: the moves (set_poses; setTransform + computeAABB + update; setWorldTransform)
 // and the self-collision that follows (frames/s).
 //
-//     tightbvh-scene-vs-peers --scene out/scenes/a-touching.json [--json OUT] [--reps N] [--engines tightbvh,fcl]
+//     tightbvh-bench --scene out/scenes/a-touching.json [--json OUT] [--reps N] [--engines tightbvh,fcl]
 //                             [--memory-objects N --memory-models M]
 //
 // Memory: the scene's Scene::model_bytes() (each distinct model once) and Scene::own_bytes() (the
@@ -44,9 +45,11 @@
 #include <utility>
 #include <vector>
 
-#include "../query/bullet_shape.hpp"  // BulletShape: the same Bullet setup as tightbvh-bench
+#include "scene_vs_peers.hpp"
+#include "../query/bullet_shape.hpp"  // BulletShape: the same Bullet setup as the pair benchmark
 #include "../thread_clock.hpp"
 #include "tightbvh/error.hpp"
+#include "tightbvh/fcl/export.hpp"
 #include "tightbvh/model.hpp"
 #include "tightbvh/scene.hpp"
 #include "tightbvh/scene_file.hpp"
@@ -123,9 +126,15 @@ class TightbvhEngine final : public Engine {
 class FclEngine final : public Engine {
  public:
   using Bv = fcl::OBBRSS<double>;
-  explicit FclEngine(const SceneData& d) : d_(d) {
+  // exported: each model's tree as tightbvh built it, exported into FCL (to_fcl_obbrss,
+  // tightbvh/fcl/export.hpp); otherwise FCL's own tree (its default splitter and fitter).
+  FclEngine(const SceneData& d, bool exported) : d_(d) {
     std::map<const Model*, std::shared_ptr<fcl::BVHModel<Bv>>> geometry;
-    for (const ModelPtr& m : d.distinct) {  // FCL's own tree (its default splitter and fitter)
+    for (const ModelPtr& m : d.distinct) {
+      if (exported) {
+        geometry[m.get()] = to_fcl_obbrss(m->tree(), m->mesh());
+        continue;
+      }
       auto g = std::make_shared<fcl::BVHModel<Bv>>();
       std::vector<fcl::Vector3<double>> vertices(m->mesh().vertices.begin(), m->mesh().vertices.end());
       std::vector<fcl::Triangle> triangles;
@@ -427,7 +436,8 @@ Scene memory_scene(const SceneData& d, std::size_t count, std::size_t models) {
 }
 
 int run(int argc, char** argv) {
-  CLI::App app{"tightbvh's Scene vs FCL's dynamic AABB tree manager and Bullet's btCollisionWorld on a scene file"};
+  CLI::App app{"tightbvh-bench --scene: tightbvh's Scene vs FCL's dynamic AABB tree manager and Bullet's "
+               "btCollisionWorld on a scene file"};
   std::string scene_path, json_path;
   int reps = 3;
   double min_seconds = 0.3;
@@ -436,7 +446,7 @@ int run(int argc, char** argv) {
   app.add_option("--json", json_path, "write the rows as JSON to this file");
   app.add_option("--reps", reps, "repetitions (median)")->check(CLI::PositiveNumber);
   app.add_option("--min-seconds", min_seconds, "without frames: CPU seconds per repetition");
-  app.add_option("--engines", only, "subset of: tightbvh fcl bullet")->delimiter(',');
+  app.add_option("--engines", only, "subset of: tightbvh fcl fcl-export bullet")->delimiter(',');
   std::size_t memory_objects = 0, memory_models = 10;
   app.add_option("--memory-objects", memory_objects, "also report the memory of this many objects sharing models");
   app.add_option("--memory-models", memory_models, "with --memory-objects: how many models they share")
@@ -483,7 +493,8 @@ int run(int argc, char** argv) {
   std::vector<Row> rows;
   const std::vector<std::pair<std::string, std::function<std::unique_ptr<Engine>()>>> engines = {
       {"tightbvh", [&] { return std::make_unique<TightbvhEngine>(d, file.scene); }},
-      {"fcl", [&] { return std::make_unique<FclEngine>(d); }},
+      {"fcl", [&] { return std::make_unique<FclEngine>(d, false); }},
+      {"fcl-export", [&] { return std::make_unique<FclEngine>(d, true); }},
       {"bullet", [&] { return std::make_unique<BulletEngine>(d); }},
   };
   for (const auto& [name, make] : engines) {
@@ -550,13 +561,14 @@ int run(int argc, char** argv) {
 }
 
 }  // namespace
-}  // namespace tightbvh::bench
 
-int main(int argc, char** argv) {
+int run_scene_bench(int argc, char** argv) {
   try {
-    return tightbvh::bench::run(argc, argv);
+    return run(argc, argv);
   } catch (const std::exception& e) {
-    std::cerr << "tightbvh-scene-vs-peers: " << e.what() << "\n";
+    std::cerr << "tightbvh-bench --scene: " << e.what() << "\n";
     return 2;
   }
 }
+
+}  // namespace tightbvh::bench

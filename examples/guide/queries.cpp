@@ -1,7 +1,8 @@
 // The user guide's queries: poses, first_hit and all_pairs, a safety margin, distance with an
 // upper bound, many poses with one workspace or in one batch, a coherent sequence with a
-// QueryCache, contact geometry, and point queries (checked against the brute force). Run by the tests (ctest
-// guide_queries).
+// QueryCache, contact geometry, point queries (checked against the brute force) and the
+// penetration of two solids (checked against the vertices' signed distances). Run by the tests
+// (ctest guide_queries).
 #include <tightbvh/build.hpp>
 #include <tightbvh/collide.hpp>
 #include <tightbvh/contact.hpp>
@@ -13,6 +14,7 @@
 #include <tightbvh/query_cache.hpp>
 #include <tightbvh/query_workspace.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -110,6 +112,19 @@ int main() {
   const std::vector<tightbvh::Containment> where = tightbvh::contains(knot, pose_a, points);
   // closest[i].point lies on triangle closest[i].triangle at closest[i].barycentric, closest[i].distance away.
 
+  // How deep do two solids overlap? Closed meshes only: minus the largest depth of a vertex of
+  // either mesh inside the other solid, that vertex and its closest point on the other surface.
+  const tightbvh::Model elephant(mesh_b);
+  pose_b.translation = tightbvh::Vec3(0.1, 0.0, 0.0);
+  const tightbvh::DistanceResult overlap =
+      tightbvh::distance(knot, pose_a, elephant, pose_b, {.signed_distance = true});
+  if (overlap.distance < 0.0)
+    std::printf("penetration: %.4f, a vertex of %s\n", -overlap.distance,
+                overlap.deepest == tightbvh::Inside::a_in_b ? "the knot (A) inside the elephant (B)"
+                                                            : "the elephant (B) inside the knot (A)");
+  else if (overlap.penetration_lower_bound_is_zero)
+    std::printf("penetration: the surfaces touch or cross, no vertex inside: the bound is 0\n");
+
   // The check: the brute force over every triangle, and the sign against contains.
   const std::vector<tightbvh::ClosestPoint> brute = tightbvh::closest_points_brute_force(mesh_a, pose_a, points);
   std::size_t inside = 0;
@@ -121,6 +136,22 @@ int main() {
       std::printf("point queries: point %zu disagrees with the brute force\n", i);
       return 1;
     }
+  }
+  // The penetration's check: no vertex of either mesh is deeper in the other solid than the
+  // answer (the point queries' signed distance), and the deepest one is that deep.
+  const auto deepest_of = [](const tightbvh::Model& from, const tightbvh::Pose& from_pose, const tightbvh::Model& into,
+                             const tightbvh::Pose& into_pose) {
+    std::vector<tightbvh::Vec3> world;
+    for (const tightbvh::Vec3& v : from.mesh().vertices) world.push_back(from_pose.apply(v));
+    double depth = 0.0;
+    for (const tightbvh::ClosestPoint& c : tightbvh::signed_distance(into, into_pose, world))
+      depth = std::max(depth, -c.distance);
+    return depth;
+  };
+  const double want = std::max(deepest_of(knot, pose_a, elephant, pose_b), deepest_of(elephant, pose_b, knot, pose_a));
+  if (!(overlap.distance < 0.0) || std::abs(-overlap.distance - want) > 1e-12 * (1.0 + want)) {
+    std::printf("penetration: %.17g, but the vertices' signed distances give %.17g\n", -overlap.distance, want);
+    return 1;
   }
   std::printf("point queries: %zu points, %zu inside, the brute force agrees\n", points.size(), inside);
   return 0;

@@ -16,6 +16,19 @@
 /// (allowing for the requested error). B's boxes are mapped into A's frame lazily once per
 /// query and node (the QueryWorkspace's cache).
 ///
+/// Signed distance of solids (DistanceOptions::signed_distance): when the solids overlap, the
+/// answer is minus a penetration depth, the largest depth of a vertex of either mesh strictly
+/// inside the other solid (its distance to the other surface). Overlap is decided by that vertex
+/// test itself (exact: classify_point, inside.hpp): a vertex strictly inside the other solid
+/// makes the interiors overlap. Surfaces apart: the solid test of QueryOptions::solid (one vertex
+/// per piece) says whether one solid is nested in the other; if not, the answer is the unsigned
+/// one, bit for bit. Surfaces touching or nested: every vertex is classified (those outside the
+/// other root box skipped), and the closest point on the other surface measured for the vertices
+/// strictly inside. The magnitude is a lower bound of the translational penetration depth
+/// (docs/algorithms.md, "Penetration of closed meshes"); it is 0 when the surfaces cross with no
+/// vertex inside (an edge–edge crossing), which DistanceResult::penetration_lower_bound_is_zero
+/// flags.
+///
 /// Thread safety as collide(): any number of queries may run concurrently, each with its own
 /// QueryWorkspace.
 #include <cstdint>
@@ -47,6 +60,11 @@ struct DistanceOptions {
   bool solid = false;
   const Closedness* closed_a = nullptr;  ///< check_closed(ma) for `solid`, or null (computed per query).
   const Closedness* closed_b = nullptr;  ///< check_closed(mb) for `solid`, or null (computed per query).
+  /// Signed distance of solids (see the file comment): negative when the solids overlap, minus
+  /// the largest depth of a vertex of either mesh inside the other solid (DistanceResult::deepest
+  /// says whose). Both meshes must be closed (InputError naming the open mesh; closed_a /
+  /// closed_b as for `solid`). Implies `solid` (a nested solid gives a negative distance, not 0).
+  bool signed_distance = false;
 };
 
 /// The work a distance query did.
@@ -75,6 +93,22 @@ struct DistanceResult {
   /// Then `pair` is not set, and point_a == point_b is that piece's vertex (a point of both
   /// solids; *_local in each mesh's frame).
   Inside inside = Inside::none;
+  /// signed_distance only, the solids overlap (distance < 0): whose vertex is deepest. a_in_b: a
+  /// vertex of A inside B's solid; point_a is that vertex, point_b its closest point on B's
+  /// surface. b_in_a: a vertex of B inside A's solid; point_b is that vertex, point_a its closest
+  /// point on A's surface. The distance is minus the vertex's distance to that point (measured in
+  /// the other mesh's frame: B's vertices mapped into A's frame as for every triangle test, A's
+  /// by the inverse map); `pair` is not set. On a tie in depth, A's vertex before B's, the lower
+  /// index first. none otherwise.
+  Inside deepest = Inside::none;
+  /// The deepest vertex's index (into ma.vertices for a_in_b, mb.vertices for b_in_a); 0 when
+  /// `deepest` is none.
+  std::uint32_t deepest_vertex = 0;
+  /// signed_distance only: the surfaces touch (distance 0, `pair` and the points as without
+  /// signed_distance) but no vertex of either mesh lies strictly inside the other solid. The
+  /// solids touch or overlap through crossing edges only; the penetration depth's lower bound
+  /// is then 0.
+  bool penetration_lower_bound_is_zero = false;
 };
 
 /// The minimum distance between mesh A at pose `pa` and mesh B at pose `pb` (mesh frame to world),
@@ -98,7 +132,10 @@ struct DistanceResult {
 
 /// Reference: every triangle pair, the same triangle distance and the same transform as
 /// distance(); the first pair (in index order) at the minimum distance. Exact: of the options only
-/// solid (and closed_a / closed_b) is used (containment by rays against every triangle).
+/// solid, signed_distance (and closed_a / closed_b) are used (containment by rays against every
+/// triangle; signed_distance: every vertex classified by classify_point_brute_force and measured
+/// by closest_points_brute_force, in the same frames as distance(), so the same answer bit for
+/// bit).
 [[nodiscard]] DistanceResult distance_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb,
                                                   const DistanceOptions& options = {});
 

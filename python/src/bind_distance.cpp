@@ -13,8 +13,10 @@
 namespace tightbvh::python {
 namespace {
 
-DistanceOptions distance_options(double absolute_error, double relative_error, double upper_bound, bool solid) {
+DistanceOptions distance_options(double absolute_error, double relative_error, double upper_bound, bool solid,
+                                 bool signed_distance) {
   DistanceOptions options;
+  options.signed_distance = signed_distance;
   options.absolute_error = absolute_error;  // checked by the query (InputError -> ValueError)
   options.relative_error = relative_error;
   options.upper_bound = upper_bound;
@@ -22,10 +24,15 @@ DistanceOptions distance_options(double absolute_error, double relative_error, d
   return options;
 }
 
-// The triangle pair, or None when no pair is the answer (beyond the upper bound, or a solid's
-// containment).
+// Whether the answer has a triangle pair: not beyond the upper bound, not a solid's containment,
+// not a penetration (signed_distance's deepest vertex).
+bool has_pair(const DistanceResult& r) {
+  return !r.beyond_upper_bound && r.inside == Inside::none && r.deepest == Inside::none;
+}
+
+// The triangle pair, or None when no pair is the answer.
 py::object triangles(const DistanceResult& r) {
-  if (r.beyond_upper_bound || r.inside != Inside::none) return py::none();
+  if (!has_pair(r)) return py::none();
   return py::make_tuple(r.pair.a, r.pair.b);
 }
 
@@ -36,15 +43,19 @@ py::object point(const DistanceResult& r, const Vec3& p) {
 }
 
 // State: (distance, beyond_upper_bound, (triangle of A, triangle of B), point_a, point_b,
-// point_a_local, point_b_local, node_pairs, triangle_pairs, inside): every field, set or not.
+// point_a_local, point_b_local, node_pairs, triangle_pairs, inside, deepest, deepest_vertex,
+// penetration_lower_bound_is_zero): every field, set or not.
 py::object distance_state(const DistanceResult& r) {
   return py::make_tuple(r.distance, r.beyond_upper_bound, py::make_tuple(r.pair.a, r.pair.b), vec3_state(r.point_a),
                         vec3_state(r.point_b), vec3_state(r.point_a_local), vec3_state(r.point_b_local),
-                        r.stats.node_pairs, r.stats.triangle_pairs, to_string(r.inside));
+                        r.stats.node_pairs, r.stats.triangle_pairs, to_string(r.inside), to_string(r.deepest),
+                        r.deepest_vertex, r.penetration_lower_bound_is_zero);
 }
 
 DistanceResult distance_from_state(const py::object& state) {
-  const py::tuple f = state_tuple(state, 10, "Distance");
+  // 13 fields; a state of 10 (the fields before deepest) reads as an unsigned answer.
+  const bool has_penetration = py::isinstance<py::tuple>(state) && py::len(state) == 13;
+  const py::tuple f = state_tuple(state, has_penetration ? 13 : 10, "Distance");
   const std::string what = "Distance.__setstate__";
   DistanceResult r;
   r.distance = state_real(f[0], what + ": distance");
@@ -59,17 +70,22 @@ DistanceResult distance_from_state(const py::object& state) {
   r.stats.node_pairs = state_count(f[7], what + ": node_pairs");
   r.stats.triangle_pairs = state_count(f[8], what + ": triangle_pairs");
   r.inside = state_inside(f[9], what + ": inside");
+  if (!has_penetration) return r;
+  r.deepest = state_inside(f[10], what + ": deepest");
+  r.deepest_vertex = static_cast<std::uint32_t>(state_count(f[11], what + ": deepest_vertex", 0xFFFFFFFFu));
+  r.penetration_lower_bound_is_zero = state_bool(f[12], what + ": penetration_lower_bound_is_zero");
   return r;
 }
 
 DistanceResult distance_py(const PyTree& tree_a, py::handle mesh_a, py::handle pose_a, const PyTree& tree_b,
                            py::handle mesh_b, py::handle pose_b, double absolute_error, double relative_error,
-                           double upper_bound, bool solid) {
+                           double upper_bound, bool solid, bool signed_distance) {
   const std::shared_ptr<const Mesh> ma = mesh_for(tree_a, mesh_a, "mesh_a");
   const std::shared_ptr<const Mesh> mb = mesh_for(tree_b, mesh_b, "mesh_b");
   const Pose pa = to_pose(pose_a, "pose_a");
   const Pose pb = to_pose(pose_b, "pose_b");
-  const DistanceOptions options = distance_options(absolute_error, relative_error, upper_bound, solid);
+  const DistanceOptions options =
+      distance_options(absolute_error, relative_error, upper_bound, solid, signed_distance);
   const py::gil_scoped_release release;
   return distance(tree_a.tree, *ma, pa, tree_b.tree, *mb, pb, options);
 }
@@ -78,13 +94,14 @@ DistanceResult distance_py(const PyTree& tree_a, py::handle mesh_a, py::handle p
 // points_b (N, 3) world, NaN beyond the upper bound).
 py::tuple distance_batch_py(const PyTree& tree_a, py::handle mesh_a, py::handle pose_a, const PyTree& tree_b,
                             py::handle mesh_b, py::handle poses_b, double absolute_error, double relative_error,
-                            double upper_bound, bool solid, py::handle threads_object) {
+                            double upper_bound, bool solid, bool signed_distance, py::handle threads_object) {
   const std::shared_ptr<const Mesh> ma = mesh_for(tree_a, mesh_a, "mesh_a");
   const std::shared_ptr<const Mesh> mb = mesh_for(tree_b, mesh_b, "mesh_b");
   const Pose pa = to_pose(pose_a, "pose_a");
   const std::vector<Pose> poses = to_poses(poses_b, "poses");
   const unsigned threads = thread_count(threads_object, "threads");
-  const DistanceOptions options = distance_options(absolute_error, relative_error, upper_bound, solid);
+  const DistanceOptions options =
+      distance_options(absolute_error, relative_error, upper_bound, solid, signed_distance);
   std::vector<DistanceResult> results;
   {
     const py::gil_scoped_release release;
@@ -100,9 +117,9 @@ py::tuple distance_batch_py(const PyTree& tree_a, py::handle mesh_a, py::handle 
   for (py::ssize_t i = 0; i < n; ++i) {
     const DistanceResult& r = results[i];
     d(i) = r.distance;
-    const bool has_pair = !r.beyond_upper_bound && r.inside == Inside::none;
-    p(i, 0) = has_pair ? std::int64_t{r.pair.a} : -1;
-    p(i, 1) = has_pair ? std::int64_t{r.pair.b} : -1;
+    const bool pair = has_pair(r);
+    p(i, 0) = pair ? std::int64_t{r.pair.a} : -1;
+    p(i, 1) = pair ? std::int64_t{r.pair.b} : -1;
     for (int k = 0; k < 3; ++k) {
       qa(i, k) = r.beyond_upper_bound ? kNoPoint : r.point_a[k];
       qb(i, k) = r.beyond_upper_bound ? kNoPoint : r.point_b[k];
@@ -111,13 +128,15 @@ py::tuple distance_batch_py(const PyTree& tree_a, py::handle mesh_a, py::handle 
   return py::make_tuple(distances, pairs, points_a, points_b);
 }
 
-DistanceResult brute_force_py(py::handle mesh_a, py::handle pose_a, py::handle mesh_b, py::handle pose_b, bool solid) {
+DistanceResult brute_force_py(py::handle mesh_a, py::handle pose_a, py::handle mesh_b, py::handle pose_b, bool solid,
+                              bool signed_distance) {
   const std::shared_ptr<const Mesh> ma = to_mesh(mesh_a, "mesh_a");
   const std::shared_ptr<const Mesh> mb = to_mesh(mesh_b, "mesh_b");
   const Pose pa = to_pose(pose_a, "pose_a");
   const Pose pb = to_pose(pose_b, "pose_b");
   const py::gil_scoped_release release;
-  return distance_brute_force(*ma, pa, *mb, pb, distance_options(0.0, 0.0, std::numeric_limits<double>::infinity(), solid));
+  return distance_brute_force(*ma, pa, *mb, pb, distance_options(0.0, 0.0, std::numeric_limits<double>::infinity(), solid,
+                                                               signed_distance));
 }
 
 // A deforming mesh's new frame: the same faces, moved vertices. Returns a new Tree over `mesh`
@@ -142,7 +161,8 @@ void bind_distance(py::module_& m) {
                              "A distance query's answer: distance, triangles, the closest points (world and each "
                              "mesh's frame), beyond_upper_bound, inside, stats")
       .def_readonly("distance", &DistanceResult::distance,
-                    "the minimum distance (0 when touching), or upper_bound when beyond_upper_bound")
+                    "the minimum distance (0 when touching), or upper_bound when beyond_upper_bound; with "
+                    "signed_distance, minus the penetration depth of the deepest vertex when the solids overlap")
       .def_readonly("beyond_upper_bound", &DistanceResult::beyond_upper_bound)
       .def_property_readonly("triangles", &triangles,
                              "(triangle of A, triangle of B), or None (beyond the upper bound, or a solid inside "
@@ -159,6 +179,15 @@ void bind_distance(py::module_& m) {
           "the same point in B's mesh frame")
       .def_property_readonly("inside", [](const DistanceResult& r) { return std::string(to_string(r.inside)); },
                              "solid only: 'b_in_a' or 'a_in_b' when the distance is 0 by containment, else 'none'")
+      .def_property_readonly("deepest", [](const DistanceResult& r) { return std::string(to_string(r.deepest)); },
+                             "signed_distance only, the solids overlap (distance < 0): 'a_in_b' (point_a is A's "
+                             "vertex inside B, point_b its closest point on B's surface) or 'b_in_a' (point_b is "
+                             "B's vertex inside A, point_a on A's surface); else 'none'")
+      .def_readonly("deepest_vertex", &DistanceResult::deepest_vertex,
+                    "the deepest vertex's index (into A's vertices for 'a_in_b', B's for 'b_in_a'); 0 for 'none'")
+      .def_readonly("penetration_lower_bound_is_zero", &DistanceResult::penetration_lower_bound_is_zero,
+                    "signed_distance only: the surfaces touch but no vertex lies inside the other solid (touching, "
+                    "or crossing edges only): the distance is 0, a lower bound of the penetration depth")
       .def_property_readonly("stats",
                              [](const DistanceResult& r) {
                                py::dict d;
@@ -175,20 +204,23 @@ void bind_distance(py::module_& m) {
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   m.def("distance", &distance_py, py::arg("tree_a"), py::arg("mesh_a"), py::arg("pose_a"), py::arg("tree_b"),
         py::arg("mesh_b"), py::arg("pose_b"), py::arg("absolute_error") = 0.0, py::arg("relative_error") = 0.0,
-        py::arg("upper_bound") = kInfinity, py::arg("solid") = false,
+        py::arg("upper_bound") = kInfinity, py::arg("solid") = false, py::arg("signed_distance") = false,
         "Minimum distance between A at pose_a and B at pose_b, with the closest points and triangles "
         "(distance.hpp). Errors: d_true <= d <= d_true * (1 + relative_error) + absolute_error. upper_bound: "
-        "stop early when nothing is closer. solid: closed meshes as solids (0 when one is inside the other).");
+        "stop early when nothing is closer. solid: closed meshes as solids (0 when one is inside the other). "
+        "signed_distance: closed meshes; when the solids overlap, minus the largest depth of a vertex of either "
+        "inside the other solid (deepest, deepest_vertex; point_a and point_b the vertex and its closest point).");
   m.def("distance_batch", &distance_batch_py, py::arg("tree_a"), py::arg("mesh_a"), py::arg("pose_a"),
         py::arg("tree_b"), py::arg("mesh_b"), py::arg("poses"), py::arg("absolute_error") = 0.0,
         py::arg("relative_error") = 0.0, py::arg("upper_bound") = kInfinity, py::arg("solid") = false,
-        py::arg("threads") = 0,
+        py::arg("signed_distance") = false, py::arg("threads") = 0,
         "One distance per pose of B, on `threads` threads (0: all cores). Returns (distances (N,), triangles "
         "(N, 2) int64, -1 where no pair is the answer, points_a (N, 3), points_b (N, 3) world, NaN beyond the "
         "upper bound), identical for any thread count.");
   m.def("distance_brute_force", &brute_force_py, py::arg("mesh_a"), py::arg("pose_a"), py::arg("mesh_b"),
-        py::arg("pose_b"), py::arg("solid") = false,
-        "The reference: every triangle pair, the same triangle distance and transform as distance().");
+        py::arg("pose_b"), py::arg("solid") = false, py::arg("signed_distance") = false,
+        "The reference: every triangle pair, the same triangle distance and transform as distance(); "
+        "signed_distance: every vertex classified and measured without a tree.");
   m.def("refit", &refit_py, py::arg("tree"), py::arg("mesh"), py::arg("fitter") = "pca", py::arg("threads") = 0,
         "A new Tree over `mesh` (the tree's faces, moved vertices) with the tree's topology and every box "
         "fitted again (refit.hpp); ValueError when the face count differs.");

@@ -239,9 +239,9 @@ class PyScene {
       const py::gil_scoped_release release;
       hits = collide(scene_, options(return_data), threads_);
     }
+    if (!return_names && !return_data) return py::bool_(!hits.empty());  // trimesh's default: no names built
     py::set names;
     py::list data;
-    if (!return_names && !return_data) return py::bool_(!hits.empty());  // trimesh's default: no names built
     for (const ObjectPairHit& hit : hits) {
       const SceneObject& a = scene_.object(hit.a);
       const SceneObject& b = scene_.object(hit.b);
@@ -260,9 +260,9 @@ class PyScene {
       const py::gil_scoped_release release;
       hits = collide(scene_, *model, pose, options(return_data), threads_);
     }
+    if (!return_names && !return_data) return py::bool_(!hits.empty());
     py::set names;
     py::list data;
-    if (!return_names && !return_data) return py::bool_(!hits.empty());
     const SceneObject query{model, pose, 1, kAllGroups, kExternal};
     for (const ObjectHit& hit : hits) {
       const SceneObject& a = scene_.object(hit.id);
@@ -279,9 +279,9 @@ class PyScene {
       const py::gil_scoped_release release;
       hits = collide(scene_, other.scene_, options(return_data), threads_);
     }
+    if (!return_names && !return_data) return py::bool_(!hits.empty());
     py::set names;
     py::list data;
-    if (!return_names && !return_data) return py::bool_(!hits.empty());
     for (const ObjectPairHit& hit : hits) {
       const SceneObject& a = scene_.object(hit.a);
       const SceneObject& b = other.scene_.object(hit.b);

@@ -140,7 +140,19 @@ void finish(QueryResult& result) {
 
 }  // namespace
 
-Pose relative_pose(const Pose& pa, const Pose& pb) { return pa.inverse() * pb; }
+Pose relative_pose(const Pose& pa, const Pose& pb) {
+  // pa^-1 * pb = (Ra^T Rb, Ra^T (tb - ta)), written out: once per pair query, it is a visible share
+  // of a near-miss pair (scenes query many of them).
+  const Mat3& ra = pa.rotation;
+  const Mat3& rb = pb.rotation;
+  const Vec3 d = pb.translation - pa.translation;
+  Pose rel;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) rel.rotation(i, j) = ra(0, i) * rb(0, j) + ra(1, i) * rb(1, j) + ra(2, i) * rb(2, j);
+    rel.translation[i] = ra(0, i) * d.x() + ra(1, i) * d.y() + ra(2, i) * d.z();
+  }
+  return rel;
+}
 
 QueryWorkspace::QueryWorkspace() : scratch_(std::make_unique<Scratch>()) {}
 QueryWorkspace::~QueryWorkspace() = default;

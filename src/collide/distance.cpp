@@ -16,6 +16,7 @@
 #include "query_common.hpp"
 #include "query_workspace.hpp"
 #include "solid.hpp"
+#include "tightbvh/point_query.hpp"
 #include "tightbvh/tri_distance.hpp"
 #include "tightbvh/tri_tri.hpp"
 #include "traverse.hpp"
@@ -491,6 +492,124 @@ void apply_solid(const query_detail::SolidHit& hit, const Pose& pa, DistanceResu
   result.stats = stats;
 }
 
+// Penetration (DistanceOptions::signed_distance): the deepest vertex of one mesh inside the
+// other solid. The vertices of `from` are mapped into the frame of `into` by `map` (map_point,
+// as every triangle test of the query) and classified exactly against `into`'s solid; those
+// strictly inside are measured to `into`'s surface.
+struct Deepest {
+  bool found = false;
+  double depth = 0.0;
+  std::uint32_t vertex = 0;
+  Vec3 vertex_frame = Vec3::Zero();   // the vertex, in `into`'s frame
+  Vec3 closest_frame = Vec3::Zero();  // its closest point on `into`'s surface, `into`'s frame
+};
+
+// The vertices of `from` (mapped by `map`) strictly inside `into`'s solid, in index order.
+// `classify(p)` is the exact classification against `into`; `root` (or null: none) is
+// `into`'s root box, a cheap cull: a point outside it by more than the rounding allowance
+// (query_common.hpp's box margin and the float axes' slack) is outside the solid.
+template <class Classify>
+void inside_vertices(const Mesh& from, const Pose& map, const CompactBox* root, Classify&& classify,
+                     std::vector<Vec3>& points, std::vector<std::uint32_t>& indices) {
+  points.clear();
+  indices.clear();
+  for (std::uint32_t v = 0; v < from.vertices.size(); ++v) {
+    const Vec3 p = map_point(map, from.vertices[v]);
+    if (root != nullptr) {
+      const Vec3 d = p - root->center_d();
+      const double margin = kBoxMargin * (query_detail::box_scale(*root) + p.cwiseAbs().maxCoeff()) +
+                            kCompactBoxSlack * root->half_extents_d().maxCoeff();
+      bool outside = false;
+      for (int i = 0; i < 3 && !outside; ++i)
+        outside = std::abs(root->axes.col(i).cast<double>().dot(d)) > root->half_extents[i] + margin;
+      if (outside) continue;
+    }
+    if (classify(p) != Containment::inside) continue;
+    points.push_back(p);
+    indices.push_back(v);
+  }
+}
+
+// The deepest of `points` (indices[k] the vertex of points[k]) given their closest points on the
+// other surface; on a tie the lower index (the first in order).
+Deepest deepest_of(std::span<const Vec3> points, std::span<const std::uint32_t> indices,
+                   std::span<const ClosestPoint> closest) {
+  Deepest best;
+  for (std::size_t k = 0; k < points.size(); ++k)
+    if (!best.found || closest[k].distance > best.depth)
+      best = {true, closest[k].distance, indices[k], points[k], closest[k].point};
+  return best;
+}
+
+// The penetration answer from the deepest vertex of A inside B (da, B's frame) and of B inside
+// A (db, A's frame): the deeper, A's on a tie. False when neither has a vertex inside.
+bool apply_penetration(const Deepest& da, const Deepest& db, const Mesh& ma, const Mesh& mb, const Pose& pa,
+                       const Pose& pb, DistanceResult& result) {
+  if (!da.found && !db.found) return false;
+  const DistanceStats stats = result.stats;
+  result = {};
+  result.stats = stats;
+  if (da.found && (!db.found || da.depth >= db.depth)) {
+    result.distance = -da.depth;
+    result.deepest = Inside::a_in_b;
+    result.deepest_vertex = da.vertex;
+    result.point_a_local = ma.vertices[da.vertex];
+    result.point_b_local = da.closest_frame;
+    result.point_a = pb.apply(da.vertex_frame);  // both witnesses through B's pose, as measured
+    result.point_b = pb.apply(da.closest_frame);
+  } else {
+    result.distance = -db.depth;
+    result.deepest = Inside::b_in_a;
+    result.deepest_vertex = db.vertex;
+    result.point_a_local = db.closest_frame;
+    result.point_b_local = mb.vertices[db.vertex];
+    result.point_a = pa.apply(db.closest_frame);  // both witnesses through A's pose, as measured
+    result.point_b = pa.apply(db.vertex_frame);
+  }
+  return true;
+}
+
+// The deepest vertex of `from` inside `into`'s solid, `map` taking `from`'s frame to `into`'s.
+// With a tree: classify_point and closest_points on the tree, the root box as a cull; without
+// (the brute-force reference): their brute-force versions, no cull. The same frames and the same
+// point–triangle distance, so both give the same answer bit for bit.
+Deepest deepest_vertex(const Mesh& from, const Pose& map, const Tree* into_tree, const Mesh& into,
+                       const Closedness& closed) {
+  std::vector<Vec3> points;
+  std::vector<std::uint32_t> indices;
+  PointQueryOptions sequential;
+  sequential.threads = 1;  // one query; distance_batch runs the queries in parallel
+  if (into_tree != nullptr) {
+    inside_vertices(from, map, &into_tree->nodes[0].box,
+                    [&](const Vec3& p) { return classify_point(*into_tree, into, closed, p); }, points, indices);
+    const std::vector<ClosestPoint> closest = closest_points(*into_tree, into, Pose::identity(), points, sequential);
+    return deepest_of(points, indices, closest);
+  }
+  inside_vertices(from, map, nullptr, [&](const Vec3& p) { return classify_point_brute_force(into, closed, p); },
+                  points, indices);
+  const std::vector<ClosestPoint> closest = closest_points_brute_force(into, Pose::identity(), points, sequential);
+  return deepest_of(points, indices, closest);
+}
+
+// signed_distance: `result` is the unsigned answer. Surfaces apart (or at least a positive upper
+// bound apart) and neither solid nested in the other: unchanged. Otherwise every vertex is
+// classified: the deepest inside gives the negative answer; none inside, with the surfaces
+// touching, leaves the answer 0 and flags it (the solids touch or cross along edges). With the
+// trees when `ta` and `tb` are given, else brute force.
+void apply_signed(const Tree* ta, const Mesh& ma, const Pose& pa, const Tree* tb, const Mesh& mb, const Pose& pb,
+                  const Pose& rel, const query_detail::SolidMeshes& solid, double upper_bound, DistanceResult& result) {
+  const bool apart = result.beyond_upper_bound ? upper_bound > 0.0 : result.distance > 0.0;
+  if (apart) {
+    const query_detail::SolidHit hit =
+        ta != nullptr ? solid.overlap(*ta, ma, *tb, mb, rel) : solid.overlap_brute_force(ma, mb, rel);
+    if (hit.inside == Inside::none) return;
+  }
+  const Deepest da = deepest_vertex(ma, rel.inverse(), tb, mb, solid.b());
+  const Deepest db = deepest_vertex(mb, rel, ta, ma, solid.a());
+  if (!apply_penetration(da, db, ma, mb, pa, pb, result) && !result.beyond_upper_bound)
+    result.penetration_lower_bound_is_zero = true;
+}
+
 }  // namespace
 
 DistanceResult distance(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,
@@ -504,12 +623,16 @@ DistanceResult distance(const Tree& a, const Mesh& ma, const Pose& pa, const Tre
   query_detail::check_tree_fits_mesh("distance", a, ma, "A");
   query_detail::check_tree_fits_mesh("distance", b, mb, "B");
   std::optional<query_detail::SolidMeshes> solid;  // checked before the descent: open meshes always throw
-  if (options.solid) solid.emplace("distance", ma, options.closed_a, mb, options.closed_b);
+  if (options.solid || options.signed_distance) solid.emplace("distance", ma, options.closed_a, mb, options.closed_b);
   const Pose rel = relative_pose(pa, pb);
   DistanceSearch search(a, ma, b, mb, rel, options, workspace.scratch());
   search.run();
   DistanceResult result = make_result(search.best(), pa, rel, options.upper_bound);
   result.stats = search.stats();
+  if (options.signed_distance) {
+    apply_signed(&a, ma, pa, &b, mb, pb, rel, *solid, options.upper_bound, result);
+    return result;
+  }
   if (solid && result.distance > 0.0) apply_solid(solid->overlap(a, ma, b, mb, rel), pa, result);
   return result;
 }
@@ -523,8 +646,10 @@ DistanceResult distance(const Tree& a, const Mesh& ma, const Pose& pa, const Tre
 std::vector<DistanceResult> distance_batch(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb,
                                            std::span<const Pose> poses_b, const DistanceOptions& options,
                                            unsigned threads) {
+  DistanceOptions batch = options;
+  batch.solid = options.solid || options.signed_distance;  // the closedness checked once for all poses
   return query_detail::run_batch<DistanceResult>(
-      "distance", ma, mb, poses_b, options, threads,
+      "distance", ma, mb, poses_b, batch, threads,
       [&](const Pose& pose, const DistanceOptions& per_pose, QueryWorkspace& workspace) {
         return distance(a, ma, pa, b, mb, pose, per_pose, workspace);
       });
@@ -533,7 +658,8 @@ std::vector<DistanceResult> distance_batch(const Tree& a, const Mesh& ma, const 
 DistanceResult distance_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb,
                                     const DistanceOptions& options) {
   std::optional<query_detail::SolidMeshes> solid;
-  if (options.solid) solid.emplace("distance_brute_force", ma, options.closed_a, mb, options.closed_b);
+  if (options.solid || options.signed_distance)
+    solid.emplace("distance_brute_force", ma, options.closed_a, mb, options.closed_b);
   const Pose rel = relative_pose(pa, pb);
   std::vector<Vec3> mapped(mb.vertices.size());
   for (std::size_t i = 0; i < mb.vertices.size(); ++i) mapped[i] = map_point(rel, mb.vertices[i]);
@@ -553,6 +679,10 @@ DistanceResult distance_brute_force(const Mesh& ma, const Pose& pa, const Mesh& 
   }
   DistanceResult result = make_result(best, pa, rel, std::numeric_limits<double>::infinity());
   result.stats.triangle_pairs = pairs;
+  if (options.signed_distance) {
+    apply_signed(nullptr, ma, pa, nullptr, mb, pb, rel, *solid, std::numeric_limits<double>::infinity(), result);
+    return result;
+  }
   if (solid && result.distance > 0.0) apply_solid(solid->overlap_brute_force(ma, mb, rel), pa, result);
   return result;
 }

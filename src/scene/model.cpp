@@ -45,7 +45,9 @@ Obb mesh_bounds(const Mesh& mesh, const Tree& tree) {
 template <class Options>
 Options with_closedness(const Model& a, const Model& b, const Options& options) {
   Options o = options;
-  if (o.solid) {
+  bool solid = o.solid;
+  if constexpr (requires { o.signed_distance; }) solid = solid || o.signed_distance;
+  if (solid) {
     if (!o.closed_a) o.closed_a = &a.closedness();
     if (!o.closed_b) o.closed_b = &b.closedness();
   }

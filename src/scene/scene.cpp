@@ -231,13 +231,25 @@ void require_valid_pose(const Pose& pose, const std::string& who, const std::str
 
 Aabb world_bounds(const Model& model, const Pose& pose) {
   const Obb& o = model.bounds();
-  const Vec3 c = pose.apply(o.center);
-  const Vec3 h = (pose.rotation * o.axes).cwiseAbs() * o.half_extents;
-  // Covers the rounding of this transform and of the pair queries' own (B mapped into A's frame).
-  const Vec3 pad = Vec3::Constant(1e-9 * (c.cwiseAbs().maxCoeff() + h.maxCoeff()) + std::numeric_limits<double>::min());
+  const Mat3& r = pose.rotation;
+  // Written out (the scene computes one per moved object per frame): the center under the pose,
+  // and the half extents h_i = sum_j |(R A)_ij| e_j of the box's axes A and half extents e.
+  double c[3], h[3], scale = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    c[i] = r(i, 0) * o.center.x() + r(i, 1) * o.center.y() + r(i, 2) * o.center.z() + pose.translation[i];
+    h[i] = 0.0;
+    for (int j = 0; j < 3; ++j)
+      h[i] += std::abs(r(i, 0) * o.axes(0, j) + r(i, 1) * o.axes(1, j) + r(i, 2) * o.axes(2, j)) * o.half_extents[j];
+    scale = std::max({scale, std::abs(c[i]), h[i]});
+  }
+  // Covers the rounding of this transform and of the pair queries' own (B mapped into A's frame):
+  // 1e-9 of the largest coordinate, at least the least normal double.
+  const double pad = 1e-9 * 2.0 * scale + std::numeric_limits<double>::min();
   Aabb box;
-  box.min = c - h - pad;
-  box.max = c + h + pad;
+  for (int i = 0; i < 3; ++i) {
+    box.min[i] = c[i] - h[i] - pad;
+    box.max[i] = c[i] + h[i] + pad;
+  }
   return box;
 }
 
@@ -486,17 +498,19 @@ void Scene::set_poses(std::span<const ObjectId> ids, std::span<const Pose> poses
   if (ids.size() != poses.size())
     throw InputError("scene: set_poses: " + std::to_string(ids.size()) + " ids but " + std::to_string(poses.size()) +
                      " poses");
+  // Every entry checked before any is applied; each id looked up once.
+  std::vector<std::uint32_t> at(ids.size());
   for (std::size_t i = 0; i < ids.size(); ++i) {
     const Slot& slot = state_->slot(ids[i], "set_poses");
+    at[i] = static_cast<std::uint32_t>(&slot - state_->slots.data());
     if (!valid_pose(poses[i]))
       require_valid_pose(poses[i], "scene: set_poses: entry " + std::to_string(i), object_label(ids[i], slot.object.name));
   }
   for (std::size_t i = 0; i < ids.size(); ++i) {
-    const std::uint32_t at = state_->index.at(ids[i]);
-    Slot& slot = state_->slots[at];
+    Slot& slot = state_->slots[at[i]];
     slot.object.pose = poses[i];
     slot.box = tightbvh::world_bounds(*slot.object.model, poses[i]);
-    state_->mark_moved(at);
+    state_->mark_moved(at[i]);
   }
 }
 

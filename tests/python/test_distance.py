@@ -135,6 +135,52 @@ def test_solid_on_an_open_mesh_is_a_value_error():
         tightbvh.distance(tc, closed, None, to, open_mesh, None, solid=True)
 
 
+def test_signed_distance_is_minus_the_deepest_vertex():
+    # A small tetrahedron sunk into a large one: inner corners inside the outer solid; the
+    # answer is minus the deepest one's distance to the outer surface, with that corner and its
+    # closest point as the witnesses.
+    outer = scaled_tetrahedron(4.0, [-1.0, -1.0, -1.0])
+    inner = scaled_tetrahedron(1.0, [-1.5, 0.2, 0.3])  # partly inside, partly out through x = -1
+    to, ti = tightbvh.build(outer), tightbvh.build(inner)
+    d = tightbvh.distance(to, outer, None, ti, inner, None, signed_distance=True)
+    assert d.distance < 0 and d.deepest == "b_in_a" and d.triangles is None
+    assert not d.penetration_lower_bound_is_zero
+    assert d.point_b.tolist() == inner.vertices[d.deepest_vertex].tolist()
+    assert np.linalg.norm(d.point_a - d.point_b) == pytest.approx(-d.distance, rel=1e-12)
+    # Every inner vertex inside the outer solid is at most that deep (the point queries agree).
+    model = tightbvh.Model(outer)
+    depths = -model.signed_distance(inner.vertices)
+    assert -d.distance == pytest.approx(depths.max(), rel=1e-12)
+    brute = tightbvh.distance_brute_force(outer, None, inner, None, signed_distance=True)
+    assert (brute.distance, brute.deepest, brute.deepest_vertex) == (d.distance, d.deepest, d.deepest_vertex)
+    distances, triangles, points_a, points_b = tightbvh.distance_batch(
+        to, outer, None, ti, inner, [np.eye(4), pose_matrix(np.eye(3), [20, 0, 0])], signed_distance=True)
+    assert distances[0] == d.distance and distances[1] > 0
+    assert triangles[0].tolist() == [-1, -1] and points_b[0].tolist() == d.point_b.tolist()
+    # Swapped: the vertex is A's.
+    swapped = tightbvh.distance(ti, inner, None, to, outer, None, signed_distance=True)
+    assert swapped.deepest == "a_in_b" and swapped.distance == d.distance
+
+
+def test_signed_distance_apart_is_the_unsigned_answer():
+    outer = scaled_tetrahedron(1.0, [0.0, 0.0, 0.0])
+    other = scaled_tetrahedron(1.0, [3.0, 0.5, 0.0])
+    to, tb = tightbvh.build(outer), tightbvh.build(other)
+    plain = tightbvh.distance(to, outer, None, tb, other, None)
+    signed = tightbvh.distance(to, outer, None, tb, other, None, signed_distance=True)
+    assert plain.distance > 0 and signed.distance == plain.distance and signed.deepest == "none"
+    assert signed.triangles == plain.triangles and signed.point_a.tolist() == plain.point_a.tolist()
+
+
+def test_signed_distance_on_an_open_mesh_is_a_value_error():
+    vertices, faces = tetrahedron()
+    open_mesh = tightbvh.Mesh(vertices, faces[:3])
+    closed = tightbvh.Mesh(vertices, faces)
+    with pytest.raises(ValueError, match="mesh B is not closed"):
+        tightbvh.distance(tightbvh.build(closed), closed, None, tightbvh.build(open_mesh), open_mesh, None,
+                          signed_distance=True)
+
+
 def test_refit_follows_the_moved_vertices(elephant, knot, trees):
     bent = elephant.vertices.copy()
     bent[:, 1] += 0.3 * np.sin(3.0 * bent[:, 0])  # a smooth bend

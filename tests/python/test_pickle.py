@@ -37,7 +37,8 @@ def fields(obj):
     names = {
         tightbvh.Result: ["hit", "pairs", "stats", "inside"],
         tightbvh.Distance: ["distance", "beyond_upper_bound", "triangles", "point_a", "point_b",
-                            "point_a_local", "point_b_local", "inside", "stats"],
+                            "point_a_local", "point_b_local", "inside", "deepest", "deepest_vertex",
+                            "penetration_lower_bound_is_zero", "stats"],
         tightbvh.Box: ["center", "axes", "half_extents", "volume"],
         tightbvh.Ball: ["center", "radius", "volume"],
         tightbvh.Ellipsoid: ["center", "axes", "radii", "volume"],
@@ -172,6 +173,8 @@ def results(elephant, knot):
     out.append(tightbvh.collide(tree_big, None, None, tree_small, None, inside, solid=True))
     out.append(tightbvh.distance(tree_big, None, None, tree_small, None, inside, solid=True))
     assert out[-1].inside == "b_in_a" and out[-2].inside == "b_in_a"
+    out.append(tightbvh.distance(tree_big, None, None, tree_small, None, inside, signed_distance=True))
+    assert out[-1].deepest == "b_in_a" and out[-1].distance < 0
     out.append(tree_a.validate())
     out.append(tree_a.validate(tightbvh.Mesh(elephant.vertices * 2, elephant.faces)))
     assert out[-2].ok and not out[-1].ok

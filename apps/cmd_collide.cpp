@@ -1,8 +1,9 @@
 // tightbvh collide MESH_A MESH_B --pose "r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz"
-//   [--all-pairs] [--margin D] [--solid] [--fitter F] [--json] [--view DIR]: builds both trees and
+//   [--all-pairs] [--margin D] [--solid] [--contacts] [--fitter F] [--json] [--view DIR]: builds both trees and
 // runs one query with A at the identity and B at the given pose (B's transform in A's frame, rotation
 // row-major). --view writes DIR/index.html: both posed meshes with the touching triangles
-// highlighted, and the node pairs the descent visited (collide_trace, run once more for the page).
+// highlighted, the intersection curve with --contacts, and the node pairs the descent visited
+// (collide_trace, run once more for the page).
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -67,7 +68,7 @@ struct Args {
   std::uint32_t leaf_size = 1;
   unsigned threads = 0;
   double margin = 0.0;
-  bool all_pairs = false, json = false, solid = false;
+  bool all_pairs = false, json = false, solid = false, contacts = false;
 };
 
 struct Run {
@@ -91,7 +92,8 @@ struct Run {
                              .margin = args.margin,
                              .solid = args.solid,
                              .closed_a = &closed_a,
-                             .closed_b = &closed_b};
+                             .closed_b = &closed_b,
+                             .contacts = args.contacts};
   const auto start = std::chrono::steady_clock::now();
   run.result = collide(p.ta, p.a, Pose::identity(), p.tb, p.b, p.pose_b, options);
   run.query_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -131,6 +133,16 @@ void print_collide(const Args& args, const Run& run) {
                           {"triangle_tests", r.stats.triangle_tests},
                           {"seconds", run.query_seconds},
                           {"build_seconds", run.pair.build_seconds}};
+    if (args.contacts) {
+      nlohmann::json contacts = nlohmann::json::array();
+      for (const Contact& c : r.contacts) {
+        nlohmann::json points = nlohmann::json::array();
+        for (int i = 0; i < c.count; ++i) points.push_back({c.points[i].x(), c.points[i].y(), c.points[i].z()});
+        contacts.push_back({{"kind", to_string(c.kind)}, {"coplanar", c.coplanar}, {"points", points}});
+      }
+      out["curve_length"] = r.curve_length;
+      out["contacts"] = contacts;
+    }
     if (!args.view.empty()) out["view"] = (std::filesystem::path(args.view) / "index.html").string();
     std::cout << out.dump(2) << '\n';
     return;
@@ -140,6 +152,7 @@ void print_collide(const Args& args, const Run& run) {
   if (r.inside == Inside::a_in_b) std::cout << "inside: A is inside B (no surfaces touch)\n";
   std::cout
             << (args.all_pairs ? "pairs: " : "pairs (first hit): ") << r.pairs.size() << '\n'
+            << (args.contacts ? "intersection curve: " + std::to_string(r.curve_length) + " long\n" : std::string())
             << "box tests: " << r.stats.box_tests << '\n'
             << "triangle tests: " << r.stats.triangle_tests << '\n'
             << "seconds: " << run.query_seconds << " (query), " << run.pair.build_seconds << " (build, fitter "
@@ -160,6 +173,9 @@ void add_collide_command(CLI::App& app) {
   auto* margin = cmd->add_option("--margin", args->margin,
                                  "report triangle pairs at distance <= D instead of touching ones")
       ->capture_default_str();
+  cmd->add_flag("--contacts", args->contacts,
+                "with --all-pairs (no margin): where each pair's triangles meet, and the intersection curve's length "
+                "(--view draws the curve)");
   cmd->add_flag("--solid", args->solid,
                 "closed meshes are solids: also a hit when one is inside the other (error for an open mesh)");
   cmd->add_option("--fitter", args->fitter, choices(fitter_names()))->capture_default_str();

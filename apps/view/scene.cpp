@@ -115,11 +115,22 @@ nlohmann::json contacts_scene(const std::string& title, const ContactInput& inpu
                                  {"pairs", input.result.pairs.size()},
                                  {"box_tests", input.result.stats.box_tests},
                                  {"triangle_tests", input.result.stats.triangle_tests}};
-  return {{"kind", "contacts"},
-          {"title", title},
-          {"meshes", {mesh_json(input.a), mesh_json(input.b, input.pose_b)}},
-          {"contacts", {corners_json(input.a, touching_a, Pose{}), corners_json(input.b, touching_b, input.pose_b)}},
-          {"result", result}};
+  nlohmann::json scene = {
+      {"kind", "contacts"},
+      {"title", title},
+      {"meshes", {mesh_json(input.a), mesh_json(input.b, input.pose_b)}},
+      {"contacts", {corners_json(input.a, touching_a, Pose{}), corners_json(input.b, touching_b, input.pose_b)}},
+      {"result", result}};
+  if (!input.result.contacts.empty()) {  // the intersection curve: its segments' ends, 6 numbers each
+    nlohmann::json curve = nlohmann::json::array();
+    for (const Contact& c : input.result.contacts)
+      if (c.kind == ContactKind::segment)
+        for (int i = 0; i < 2; ++i)
+          for (int k = 0; k < 3; ++k) curve.push_back(c.points[static_cast<std::size_t>(i)][k]);
+    scene["curve"] = std::move(curve);
+    scene["result"]["curve_length"] = input.result.curve_length;
+  }
+  return scene;
 }
 
 nlohmann::json distance_scene(const std::string& title, const DistanceInput& input) {

@@ -42,7 +42,9 @@ inline constexpr std::size_t kMaxDrawnPairs = 3'000;
                                          nlohmann::json trees);
 
 // The scene of `tightbvh collide --view`: {"kind": "contacts", "title", "meshes": [A, B] (B posed
-// into A's frame), "contacts": [corners of A's touching triangles, of B's], "result": {...}}.
+// into A's frame), "contacts": [corners of A's touching triangles, of B's], "result": {...}}; with
+// QueryOptions::contacts also "curve": the intersection curve's segments (6 numbers each, A's
+// frame) and result.curve_length.
 struct ContactInput {
   const Mesh& a;
   const Mesh& b;

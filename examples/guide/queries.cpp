@@ -1,10 +1,11 @@
 // The user guide's queries: poses, first_hit and all_pairs, a safety margin, distance with an
 // upper bound, many poses with one workspace or in one batch, a coherent sequence with a
-// QueryCache, point queries (checked against the brute force) and the penetration of two solids
-// (checked against the vertices' signed distances). Run by the tests (ctest
-// guide_queries).
+// QueryCache, contact geometry, point queries (checked against the brute force) and the
+// penetration of two solids (checked against the vertices' signed distances). Run by the tests
+// (ctest guide_queries).
 #include <tightbvh/build.hpp>
 #include <tightbvh/collide.hpp>
+#include <tightbvh/contact.hpp>
 #include <tightbvh/distance.hpp>
 #include <tightbvh/mesh.hpp>
 #include <tightbvh/model.hpp>
@@ -72,6 +73,33 @@ int main() {
                         .pairs.size();
   std::printf("%zu of %zu poses hit (batch: %zu results), %zu pairs along the sequence\n", hits, poses.size(),
               batch.size(), cached_pairs);
+
+  // Where do they cross? contacts (all_pairs, no margin): for each touching pair, where its two
+  // triangles meet, in the world frame: a segment (a point when they only touch, a polygon when
+  // coplanar), with both face normals. The segments make up the intersection curve.
+  const tightbvh::QueryResult crossing = tightbvh::collide(tree_a, mesh_a, pose_a, tree_b, mesh_b, parsed,
+                                                           {.mode = tightbvh::QueryMode::all_pairs, .contacts = true});
+  std::size_t segments = 0;
+  for (const tightbvh::Contact& c : crossing.contacts)
+    segments += c.kind == tightbvh::ContactKind::segment ? 1 : 0;
+  std::printf("contacts: %zu segments, intersection curve %.4f long\n", segments, crossing.curve_length);
+  // The check: one contact per pair (the same pairs as above), each on both of its triangles.
+  if (crossing.pairs != all.pairs || crossing.contacts.size() != all.pairs.size() || crossing.curve_length <= 0.0) {
+    std::printf("contacts: not one per touching pair\n");
+    return 1;
+  }
+  for (std::size_t i = 0; i < crossing.pairs.size(); ++i) {
+    const auto ta = mesh_a.corners(crossing.pairs[i].a), tb = mesh_b.corners(crossing.pairs[i].b);
+    const tightbvh::Contact& c = crossing.contacts[i];
+    for (int k = 0; k < c.count; ++k) {
+      const tightbvh::Vec3 in_b = parsed.inverse().apply(c.points[k]);  // pose_a is the identity
+      if (tightbvh::closest_point_on_triangle(c.points[k], ta[0], ta[1], ta[2]).distance > 1e-9 ||
+          tightbvh::closest_point_on_triangle(in_b, tb[0], tb[1], tb[2]).distance > 1e-9) {
+        std::printf("contacts: pair %zu's contact is off its triangles\n", i);
+        return 1;
+      }
+    }
+  }
 
   // Point queries: a grid of points around the knot, each point's closest point on the surface,
   // its signed distance (negative inside) and whether it is inside. A Model keeps the mesh's

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "tightbvh/closed.hpp"
+#include "tightbvh/contact.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/pose.hpp"
 #include "tightbvh/query_cache.hpp"
@@ -65,6 +66,10 @@ struct QueryOptions {
   bool solid = false;
   const Closedness* closed_a = nullptr;  ///< check_closed(ma) for `solid`, or null (computed per query).
   const Closedness* closed_b = nullptr;  ///< check_closed(mb) for `solid`, or null (computed per query).
+  /// Contact geometry: QueryResult::contacts gets, for each reported pair, where the two triangles
+  /// meet (contact.hpp), computed after the traversal. Only with mode all_pairs and margin 0 (pairs
+  /// within a margin need not touch): otherwise InputError naming the option.
+  bool contacts = false;
 };
 
 /// Why a solid query (QueryOptions::solid) hit without a reported triangle pair.
@@ -109,6 +114,12 @@ struct QueryResult {
   /// solid only: set when the hit is a containment (then `pairs` is empty). Containment is
   /// tested only when no pair was reported.
   Inside inside = Inside::none;
+  /// contacts only: contacts[i] is where pairs[i]'s triangles meet, in the world frame (a segment,
+  /// a point, or a coplanar polygon; contact.hpp). Empty otherwise.
+  std::vector<Contact> contacts;
+  /// contacts only: the length of the intersection curve, the sum of the segments' lengths
+  /// (points add 0; coplanar polygons add 0, their perimeters are not part of the curve).
+  double curve_length = 0.0;
 };
 
 /// pa^-1 * pb: maps B's mesh frame to A's mesh frame.

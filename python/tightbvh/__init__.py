@@ -13,6 +13,7 @@ Bad input raises ValueError or TypeError naming the argument.
     scene = tightbvh.Scene()  # the methods of trimesh.collision.CollisionManager
 """
 from ._tightbvh import (
+    CONTACT_KINDS,
     Ball,
     Box,
     ContactData,
@@ -44,6 +45,7 @@ from ._tightbvh import (
 )
 
 __all__ = [
+    "CONTACT_KINDS",
     "Ball",
     "Box",
     "ContactData",

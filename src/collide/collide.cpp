@@ -10,6 +10,7 @@
 
 #include "batch.hpp"
 #include "box_test.hpp"
+#include "contact_query.hpp"
 #include "query_cache.hpp"
 #include "query_common.hpp"
 #include "query_workspace.hpp"
@@ -170,6 +171,7 @@ QueryResult collide_with(const Tree& a, const Mesh& ma, const Pose& pa, const Tr
   query_detail::check_tree_fits_mesh("collide", a, ma, "A");
   query_detail::check_tree_fits_mesh("collide", b, mb, "B");
   check_margin(options.margin);
+  query_detail::check_contacts("collide", options);
   std::optional<query_detail::SolidMeshes> solid;  // checked before the descent: open meshes always throw
   if (options.solid) solid.emplace("collide", ma, options.closed_a, mb, options.closed_b);
   start();
@@ -187,6 +189,7 @@ QueryResult collide_with(const Tree& a, const Mesh& ma, const Pose& pa, const Tr
       collide_trees<false, true>(a, ma, b, mb, rel, options, ws, result, walk);
   }
   if (!first) finish(result);
+  if (options.contacts) query_detail::add_contacts(result, ma, pa, mb, pb);
   if (solid && !result.hit) {  // no pair: is one solid inside the other?
     result.inside = solid->overlap(a, ma, b, mb, rel).inside;
     result.hit = result.inside != Inside::none;
@@ -263,6 +266,7 @@ std::vector<QueryResult> collide_batch(const Tree& a, const Mesh& ma, const Pose
 QueryResult collide_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb,
                                 const QueryOptions& options) {
   check_margin(options.margin);
+  query_detail::check_contacts("collide_brute_force", options);
   std::optional<query_detail::SolidMeshes> solid;
   if (options.solid) solid.emplace("collide_brute_force", ma, options.closed_a, mb, options.closed_b);
   QueryResult result;
@@ -284,6 +288,7 @@ QueryResult collide_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, 
       }
     }
   }
+  if (options.contacts) query_detail::add_contacts(result, ma, pa, mb, pb);
   if (solid && !result.hit) {
     result.inside = solid->overlap_brute_force(ma, mb, rel).inside;
     result.hit = result.inside != Inside::none;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -40,6 +41,33 @@ TEST(CliCollide, JsonFirstHitAndAllPairs) {
   EXPECT_TRUE(f["hit"].get<bool>());
   EXPECT_EQ(f["pair_count"], 1);
   EXPECT_LE(f["box_tests"].get<int>(), j["box_tests"].get<int>());
+}
+
+TEST(CliCollide, ContactsJsonAndErrors) {
+  const std::string pose = " --pose \"0 -1 0 1 0 0 0 0 1 0.1 0 0\" --fitter pca";
+  const CliRun r = run(meshes() + pose + " --all-pairs --contacts --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["contacts"].size(), j["pair_count"].get<std::size_t>());
+  double length = 0.0;
+  for (const auto& c : j["contacts"]) {
+    const auto& p = c["points"];
+    if (c["kind"] != "segment") continue;
+    ASSERT_EQ(p.size(), 2u);
+    double d2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double d = p[1][k].get<double>() - p[0][k].get<double>();
+      d2 += d * d;
+    }
+    length += std::sqrt(d2);
+  }
+  EXPECT_GT(j["curve_length"].get<double>(), 0.0);
+  EXPECT_NEAR(j["curve_length"].get<double>(), length, 1e-9 * length);
+  const CliRun text = run(meshes() + pose + " --all-pairs --contacts");
+  EXPECT_NE(text.out.find("intersection curve: "), std::string::npos) << text.out;
+  const CliRun first = run(meshes() + pose + " --contacts");  // contacts need --all-pairs
+  EXPECT_NE(first.status, 0);
+  EXPECT_NE(first.err.find("contacts"), std::string::npos) << first.err;
 }
 
 TEST(CliCollide, TextSeparated) {

@@ -189,3 +189,73 @@ def test_margin_equals_brute_force_and_contains_the_touching_pairs():
     assert hits.tolist() == [True] and counts.tolist() == [len(near.pairs)]
     with pytest.raises(ValueError, match="margin"):
         tightbvh.collide(ta, a, None, tb, b, pose, margin=-1.0)
+
+
+def point_triangle_distance(p, t):
+    """Distance from p to the closed triangle t (3, 3): the closest point of the plane if it is
+    inside, else of the three edges."""
+    a, b, c = t
+    n = np.cross(b - a, c - a)
+    q = p - np.dot(p - a, n) / np.dot(n, n) * n
+    m = np.array([b - a, c - a]).T
+    u, v = np.linalg.lstsq(m, q - a, rcond=None)[0]
+    if u >= 0 and v >= 0 and u + v <= 1:
+        return np.linalg.norm(p - q)
+
+    def seg(x, y):
+        s = np.clip(np.dot(p - x, y - x) / np.dot(y - x, y - x), 0, 1)
+        return np.linalg.norm(p - (x + s * (y - x)))
+
+    return min(seg(a, b), seg(b, c), seg(c, a))
+
+
+def test_contacts_arrays(elephant, knot, trees):
+    pose = POSES[0]
+    result = tightbvh.collide(trees[0], elephant, None, trees[1], knot, pose, all_pairs=True, contacts=True)
+    plain = tightbvh.collide(trees[0], elephant, None, trees[1], knot, pose, all_pairs=True)
+    assert plain.segments is None and plain.curve_length is None
+    k = len(result.pairs)
+    assert result.pairs.tolist() == plain.pairs.tolist() and k > 100
+    assert result.segments.shape == (k, 2, 3) and result.segments.dtype == np.float64
+    assert result.normals_a.shape == (k, 3) and result.normals_b.shape == (k, 3)
+    assert result.kind.shape == (k,) and result.kind.dtype == np.uint8 and result.coplanar.shape == (k,)
+    assert tightbvh.CONTACT_KINDS[2] == "segment"
+    seg = result.kind == 2
+    assert seg.sum() > k // 2
+    lengths = np.linalg.norm(result.segments[:, 1] - result.segments[:, 0], axis=1)
+    assert result.curve_length == pytest.approx(lengths[seg].sum(), rel=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(result.normals_a, axis=1), 1.0, rtol=1e-12)
+    # Each contact lies on both of its triangles (world frame: A at the identity, B at `pose`).
+    va, ta = elephant.vertices, elephant.faces
+    vb = knot.vertices @ pose[:3, :3].T + pose[:3, 3]
+    tb = knot.faces
+    for row in range(0, k, max(1, k // 50)):
+        ia, ib = result.pairs[row]
+        for p in result.segments[row]:
+            assert point_triangle_distance(p, va[ta[ia]]) < 1e-9
+            assert point_triangle_distance(p, vb[tb[ib]]) < 1e-9
+    # The brute force gives the same contacts; pickling keeps them.
+    brute = tightbvh.collide_brute_force(tightbvh.Mesh(va, ta[:300]), None, knot, pose, all_pairs=True, contacts=True)
+    mine = tightbvh.collide(tightbvh.build(tightbvh.Mesh(va, ta[:300])), None, None, trees[1], knot, pose,
+                            all_pairs=True, contacts=True)
+    assert len(brute.pairs) > 0
+    np.testing.assert_array_equal(brute.segments, mine.segments)
+    import pickle
+
+    again = pickle.loads(pickle.dumps(result))
+    np.testing.assert_array_equal(again.segments, result.segments)
+    assert again.curve_length == result.curve_length
+
+
+def test_contacts_coplanar_polygon_and_errors():
+    square = tightbvh.Mesh(np.array([[0, 0, 0], [2, 0, 0], [0, 2, 0.0]]), np.array([[0, 1, 2]]))
+    tree = tightbvh.build(square)
+    result = tightbvh.collide(tree, None, None, tree, None, pose_matrix(np.eye(3), [0.5, 0.5, 0]), all_pairs=True,
+                              contacts=True)
+    assert result.kind.tolist() == [3] and result.coplanar.tolist() == [True]
+    assert np.isnan(result.segments).all() and result.curve_length == 0.0
+    assert result.polygons[0].shape[1] == 3 and len(result.polygons[0]) >= 3
+    with pytest.raises(ValueError, match="contacts"):
+        tightbvh.collide(tree, None, None, tree, None, None, contacts=True)
+    with pytest.raises(ValueError, match="contacts"):
+        tightbvh.collide(tree, None, None, tree, None, None, all_pairs=True, margin=0.1, contacts=True)

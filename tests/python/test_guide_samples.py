@@ -18,9 +18,10 @@ def test_poses_and_batches():
     lines = run("poses_and_batches.py")
     assert lines[0].startswith("touching pairs: ") and lines[0].endswith("(the same with (R, t): True)")
     assert int(lines[0].split()[2]) > 0
-    hit, _, total = lines[1].split()[:3]
+    assert lines[1].startswith("intersection curve: ") and int(lines[1].split()[2]) > 0
+    hit, _, total = lines[2].split()[:3]
     assert 0 < int(hit) < int(total) == 64
-    assert lines[2].startswith("distance: ")
-    assert lines[3].startswith("loaded ") and lines[3].endswith("valid: True")
-    assert lines[4].startswith("ValueError: ") and "pose" in lines[4]
-    assert len(lines) == 5
+    assert lines[3].startswith("distance: ")
+    assert lines[4].startswith("loaded ") and lines[4].endswith("valid: True")
+    assert lines[5].startswith("ValueError: ") and "pose" in lines[5]
+    assert len(lines) == 6

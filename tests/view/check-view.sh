@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The view pages as a person sees them: check-view.sh TIGHTBVH_BINARY SOURCE_DIR OUT_DIR
-# Writes a `tightbvh view` page, two `tightbvh collide --view` pages (all_pairs; first_hit, its
+# Writes a `tightbvh view` page, two `tightbvh collide --view` pages (all_pairs with --contacts, whose
+# page must hold the intersection curve; first_hit, its
 # descent panel opened with #boxes-only so that it must draw node boxes) and a `tightbvh distance
 # --view` page, opens each in headless
 # Chromium (WebGL through SwiftShader, networking off) and fails when a page references the
@@ -19,12 +20,13 @@ trap 'rm -rf "$profile"' EXIT
 
 "$bin" view "$src/meshes/knot1.off" --level 3 -o "$out/trees" >/dev/null
 "$bin" collide "$src/meshes/knot1.off" "$src/meshes/elephant.off" --pose "0 -1 0 1 0 0 0 0 1 0.1 0 0" \
-  --fitter pca --all-pairs --view "$out/contacts" >/dev/null
+  --fitter pca --all-pairs --contacts --view "$out/contacts" >/dev/null
 "$bin" collide "$src/meshes/knot1.off" "$src/meshes/elephant.off" --pose "0 -1 0 1 0 0 0 0 1 0.1 0 0" \
   --view "$out/descent" >/dev/null
 "$bin" distance "$src/meshes/knot1.off" "$src/meshes/elephant.off" --pose "0 -1 0 1 0 0 0 0 1 1.3 0 0" \
   --view "$out/distance" >/dev/null
 grep -q '"descent":' "$out/descent/index.html" || { echo "check-view: no descent in the first_hit page" >&2; exit 1; }
+grep -q '"curve":\[[-0-9]' "$out/contacts/index.html" || { echo "check-view: no intersection curve in the contacts page" >&2; exit 1; }
 
 # status_of PAGE PNG [#HASH]: screenshots file://PAGE#HASH into PNG and prints the status the page logged.
 status_of() {

@@ -1,4 +1,4 @@
-"""The user guide's Python samples: poses as 4x4 matrices or (R, t) pairs, a batch of poses,
+"""The user guide's Python samples: poses as 4x4 matrices or (R, t) pairs, contacts, a batch of poses,
 distance with an upper bound, saving a tree, and the errors bad input raises.
 Run by tests/python/test_guide_samples.py."""
 import pathlib
@@ -22,6 +22,16 @@ pose[:3, :3], pose[:3, 3] = R, t
 same = tightbvh.collide(tree_a, None, None, tree_b, None, (R, t), all_pairs=True)  # None: the tree's mesh
 result = tightbvh.collide(tree_a, a, None, tree_b, b, pose, all_pairs=True)
 print(f"touching pairs: {len(result.pairs)} (the same with (R, t): {np.array_equal(result.pairs, same.pairs)})")
+
+# Where they cross: contacts=True (with all_pairs) adds one row per pair: its segment (a point
+# is stored twice, a coplanar polygon's row is NaN), both unit face normals, the kind
+# (tightbvh.CONTACT_KINDS) and the intersection curve's length.
+crossing = tightbvh.collide(tree_a, a, None, tree_b, b, pose, all_pairs=True, contacts=True)
+segments = crossing.segments[crossing.kind == 2]  # (K, 2, 3): the intersection curve
+print(f"intersection curve: {len(segments)} segments, {crossing.curve_length:.4f} long")
+lengths = np.linalg.norm(segments[:, 1] - segments[:, 0], axis=1)
+if not np.array_equal(crossing.pairs, result.pairs) or not np.isclose(lengths.sum(), crossing.curve_length):
+    raise SystemExit("contacts: not one per pair, or the curve's length is not the segments' sum")
 
 # Many poses in one call: (N, 4, 4) or (Rs (N, 3, 3), ts (N, 3)); the same answers on any thread count.
 poses = np.tile(np.eye(4), (64, 1, 1))

@@ -1,6 +1,7 @@
 // tightbvh distance MESH_A MESH_B --pose "r00 r01 r02 r10 r11 r12 r20 r21 r22 tx ty tz"
-//   [--abs-error E] [--rel-error R] [--upper-bound D] [--solid] [--fitter F] [--json] [--view DIR]: builds both
-// trees and returns the minimum distance with A at the identity and B at the given pose (as collide). --view
+//   [--abs-error E] [--rel-error R] [--upper-bound D] [--solid] [--signed] [--fitter F] [--json] [--view DIR]:
+// builds both trees and returns the minimum distance with A at the identity and B at the given pose (as collide);
+// --signed: negative by the deepest vertex when the solids overlap. --view
 // writes DIR/index.html: both posed meshes, the closest triangles and the segment between the closest points.
 #include <chrono>
 #include <filesystem>
@@ -38,9 +39,10 @@ struct Run {
 [[nodiscard]] Run run_distance(const Args& args) {
   Run run{load_pair(args.mesh_a, args.mesh_b, args.pose, args.fitter, args.leaf_size, args.threads), {}};
   const MeshPair& p = run.pair;
-  // --solid: the meshes' closedness once, outside the timed query (an open mesh is the error).
-  const Closedness closed_a = args.options.solid ? check_closed(p.a) : Closedness{};
-  const Closedness closed_b = args.options.solid ? check_closed(p.b) : Closedness{};
+  // --solid, --signed: the meshes' closedness once, outside the timed query (an open mesh is the error).
+  const bool solids = args.options.solid || args.options.signed_distance;
+  const Closedness closed_a = solids ? check_closed(p.a) : Closedness{};
+  const Closedness closed_b = solids ? check_closed(p.b) : Closedness{};
   DistanceOptions options = args.options;
   options.closed_a = &closed_a;
   options.closed_b = &closed_b;
@@ -70,13 +72,20 @@ void print_distance(const Args& args, const Run& run) {
                           {"beyond_upper_bound", r.beyond_upper_bound},
                           {"solid", args.options.solid},
                           {"inside", to_string(r.inside)},
+                          {"signed", args.options.signed_distance},
                           {"node_pairs", r.stats.node_pairs},
                           {"triangle_pairs", r.stats.triangle_pairs},
                           {"seconds", run.query_seconds},
                           {"build_seconds", run.pair.build_seconds}};
+    if (args.options.signed_distance) {
+      out["deepest"] = to_string(r.deepest);
+      out["penetration_lower_bound_is_zero"] = r.penetration_lower_bound_is_zero;
+      out["curve_length"] = r.curve_length;
+      if (r.deepest != Inside::none) out["deepest_vertex"] = r.deepest_vertex;
+    }
     if (!args.view.empty()) out["view"] = (std::filesystem::path(args.view) / "index.html").string();
     if (!r.beyond_upper_bound) {
-      if (r.inside == Inside::none) out["triangles"] = {r.pair.a, r.pair.b};
+      if (r.inside == Inside::none && r.deepest == Inside::none) out["triangles"] = {r.pair.a, r.pair.b};
       out["point_a"] = to_json(r.point_a);
       out["point_b"] = to_json(r.point_b);
       out["point_a_local"] = to_json(r.point_a_local);
@@ -92,11 +101,20 @@ void print_distance(const Args& args, const Run& run) {
     std::cout << "distance: 0 (" << (r.inside == Inside::b_in_a ? "B is inside A" : "A is inside B")
               << ", no surfaces touch)\n"
               << "common point: " << r.point_a.transpose() << '\n';
+  } else if (r.deepest != Inside::none) {
+    const bool a_in_b = r.deepest == Inside::a_in_b;
+    std::cout << "distance: " << r.distance << " (the solids overlap: penetration of the deepest vertex)\n"
+              << "deepest vertex: " << r.deepest_vertex << (a_in_b ? " of A, inside B\n" : " of B, inside A\n")
+              << "point on A: " << r.point_a.transpose() << '\n'
+              << "point on B: " << r.point_b.transpose() << '\n';
   } else {
     std::cout << "distance: " << r.distance << '\n'
               << "triangles: " << r.pair.a << " (A), " << r.pair.b << " (B)\n"
               << "point on A: " << r.point_a.transpose() << '\n'
               << "point on B: " << r.point_b.transpose() << '\n';
+    if (r.penetration_lower_bound_is_zero)
+      std::cout << "penetration bound: 0 (no vertex inside the other solid); intersection curve: " << r.curve_length
+                << " long\n";
   }
   std::cout.precision(6);
   std::cout << "node pairs: " << r.stats.node_pairs << '\n'
@@ -123,6 +141,9 @@ void add_distance_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--solid", args->options.solid,
                 "closed meshes are solids: 0 when one is inside the other (error for an open mesh)");
+  cmd->add_flag("--signed", args->options.signed_distance,
+                "closed meshes are solids: negative when they overlap, minus the depth of the deepest vertex inside "
+                "the other solid (error for an open mesh)");
   cmd->add_option("--fitter", args->fitter, choices(fitter_names()))->capture_default_str();
   cmd->add_option("--leaf-size", args->leaf_size, "max triangles per leaf")
       ->check(positive_number())

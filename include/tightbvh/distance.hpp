@@ -27,7 +27,7 @@
 /// strictly inside. The magnitude is a lower bound of the translational penetration depth
 /// (docs/algorithms.md, "Penetration of closed meshes"); it is 0 when the surfaces cross with no
 /// vertex inside (an edge–edge crossing), which DistanceResult::penetration_lower_bound_is_zero
-/// flags.
+/// flags, with the length of the surfaces' intersection curve (DistanceResult::curve_length).
 ///
 /// Thread safety as collide(): any number of queries may run concurrently, each with its own
 /// QueryWorkspace.
@@ -109,6 +109,12 @@ struct DistanceResult {
   /// solids touch or overlap through crossing edges only; the penetration depth's lower bound
   /// is then 0.
   bool penetration_lower_bound_is_zero = false;
+  /// penetration_lower_bound_is_zero only: the length of the intersection curve of the two
+  /// surfaces (QueryResult::curve_length of collide() in all_pairs mode with contacts), the
+  /// measure of the crossing that the zero bound does not give. Coplanar overlaps add 0, so
+  /// faces flush against each other give the length of their contact region's border segments
+  /// that other triangles cross. 0 otherwise.
+  double curve_length = 0.0;
 };
 
 /// The minimum distance between mesh A at pose `pa` and mesh B at pose `pb` (mesh frame to world),

@@ -44,18 +44,20 @@ py::object point(const DistanceResult& r, const Vec3& p) {
 
 // State: (distance, beyond_upper_bound, (triangle of A, triangle of B), point_a, point_b,
 // point_a_local, point_b_local, node_pairs, triangle_pairs, inside, deepest, deepest_vertex,
-// penetration_lower_bound_is_zero): every field, set or not.
+// penetration_lower_bound_is_zero, curve_length): every field, set or not.
 py::object distance_state(const DistanceResult& r) {
   return py::make_tuple(r.distance, r.beyond_upper_bound, py::make_tuple(r.pair.a, r.pair.b), vec3_state(r.point_a),
                         vec3_state(r.point_b), vec3_state(r.point_a_local), vec3_state(r.point_b_local),
                         r.stats.node_pairs, r.stats.triangle_pairs, to_string(r.inside), to_string(r.deepest),
-                        r.deepest_vertex, r.penetration_lower_bound_is_zero);
+                        r.deepest_vertex, r.penetration_lower_bound_is_zero, r.curve_length);
 }
 
 DistanceResult distance_from_state(const py::object& state) {
-  // 13 fields; a state of 10 (the fields before deepest) reads as an unsigned answer.
-  const bool has_penetration = py::isinstance<py::tuple>(state) && py::len(state) == 13;
-  const py::tuple f = state_tuple(state, has_penetration ? 13 : 10, "Distance");
+  // 14 fields; a state of 10 (the fields before deepest) reads as an unsigned answer, one of 13
+  // (without curve_length) as a curve length of 0.
+  const std::size_t fields = py::isinstance<py::tuple>(state) ? py::len(state) : 0;
+  const bool has_penetration = fields == 13 || fields == 14;
+  const py::tuple f = state_tuple(state, has_penetration ? fields : 10, "Distance");
   const std::string what = "Distance.__setstate__";
   DistanceResult r;
   r.distance = state_real(f[0], what + ": distance");
@@ -74,6 +76,7 @@ DistanceResult distance_from_state(const py::object& state) {
   r.deepest = state_inside(f[10], what + ": deepest");
   r.deepest_vertex = static_cast<std::uint32_t>(state_count(f[11], what + ": deepest_vertex", 0xFFFFFFFFu));
   r.penetration_lower_bound_is_zero = state_bool(f[12], what + ": penetration_lower_bound_is_zero");
+  if (fields == 14) r.curve_length = state_real(f[13], what + ": curve_length");
   return r;
 }
 
@@ -188,6 +191,9 @@ void bind_distance(py::module_& m) {
       .def_readonly("penetration_lower_bound_is_zero", &DistanceResult::penetration_lower_bound_is_zero,
                     "signed_distance only: the surfaces touch but no vertex lies inside the other solid (touching, "
                     "or crossing edges only): the distance is 0, a lower bound of the penetration depth")
+      .def_readonly("curve_length", &DistanceResult::curve_length,
+                    "penetration_lower_bound_is_zero only: the length of the surfaces' intersection curve (as "
+                    "collide's contacts); 0 otherwise")
       .def_property_readonly("stats",
                              [](const DistanceResult& r) {
                                py::dict d;

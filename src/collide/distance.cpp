@@ -606,8 +606,12 @@ void apply_signed(const Tree* ta, const Mesh& ma, const Pose& pa, const Tree* tb
   }
   const Deepest da = deepest_vertex(ma, rel.inverse(), tb, mb, solid.b());
   const Deepest db = deepest_vertex(mb, rel, ta, ma, solid.a());
-  if (!apply_penetration(da, db, ma, mb, pa, pb, result) && !result.beyond_upper_bound)
-    result.penetration_lower_bound_is_zero = true;
+  if (apply_penetration(da, db, ma, mb, pa, pb, result) || result.beyond_upper_bound) return;
+  result.penetration_lower_bound_is_zero = true;
+  // The bound says nothing of how far the surfaces cross: measure their intersection curve.
+  const QueryOptions curve{.mode = QueryMode::all_pairs, .contacts = true};
+  result.curve_length = ta != nullptr ? collide(*ta, ma, pa, *tb, mb, pb, curve).curve_length
+                                      : collide_brute_force(ma, pa, mb, pb, curve).curve_length;
 }
 
 }  // namespace

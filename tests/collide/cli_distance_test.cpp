@@ -76,7 +76,8 @@ TEST(CliDistance, BadInputIsOneLineAndNonZeroExit) {
 // An OFF cube [-h, h]^3 (outward), without its last triangle when `open`, in a temporary file.
 std::string cube_file(double h, bool open) {
   const auto path = std::filesystem::temp_directory_path() /
-                    ("tightbvh_cli_cube_" + std::to_string(::getpid()) + (open ? "_open" : "") + ".off");
+                    ("tightbvh_cli_cube_" + std::to_string(::getpid()) + "_" + std::to_string(h) +
+                     (open ? "_open" : "") + ".off");
   std::ofstream out(path);
   out << "OFF\n8 " << (open ? 11 : 12) << " 0\n";
   for (int i = 0; i < 8; ++i) out << ((i & 1) ? h : -h) << ' ' << ((i & 2) ? h : -h) << ' ' << ((i & 4) ? h : -h) << '\n';
@@ -121,6 +122,34 @@ TEST(CliSolid, CollideAndDistanceWithOneMeshInsideTheOther) {
   }
   std::filesystem::remove(big);
   std::filesystem::remove(open);
+}
+
+TEST(CliSolid, SignedDistanceOfOverlappingCubes) {
+  // A cube of side 1 and one of side 0.5 moved 0.6 along x: B's corners at x = 0.35 lie inside A,
+  // 0.15 from its face x = 0.5; no corner of A lies inside B.
+  const std::string big = cube_file(0.5, false), small = cube_file(0.25, false);
+  const CliRun r = test::run_cli("distance " + big + " " + small + shifted(0.6) + " --fitter aabb --signed --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j["distance"].get<double>(), -0.15, 1e-15);
+  EXPECT_EQ(j["deepest"].get<std::string>(), "b_in_a");
+  EXPECT_FALSE(j["penetration_lower_bound_is_zero"].get<bool>());
+  EXPECT_EQ(j["point_b"][0].get<double>(), 0.35);
+  EXPECT_NEAR(j["point_a"][0].get<double>(), 0.5, 1e-15);
+  EXPECT_FALSE(j.contains("triangles"));
+  // Face to face: 0, no vertex inside, the bound 0 and the intersection curve's length printed.
+  const CliRun touch = test::run_cli("distance " + big + " " + small + shifted(0.75) + " --fitter aabb --signed");
+  ASSERT_EQ(touch.status, 0) << touch.err;
+  EXPECT_NE(touch.out.find("distance: 0\n"), std::string::npos) << touch.out;
+  EXPECT_NE(touch.out.find("penetration bound: 0 (no vertex inside the other solid); intersection curve: "),
+            std::string::npos)
+      << touch.out;
+  // Without --signed the overlap is distance 0.
+  const CliRun plain = test::run_cli("distance " + big + " " + small + shifted(0.6) + " --fitter aabb --json");
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  EXPECT_EQ(nlohmann::json::parse(plain.out)["distance"].get<double>(), 0.0);
+  std::filesystem::remove(big);
+  std::filesystem::remove(small);
 }
 
 }  // namespace

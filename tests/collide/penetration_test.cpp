@@ -82,6 +82,8 @@ DistanceResult expect_reference(const ModelPtr& a, const Pose& pa, const ModelPt
     EXPECT_EQ(brute.deepest, got.deepest);
     EXPECT_EQ(brute.deepest_vertex, got.deepest_vertex);
     EXPECT_EQ(brute.penetration_lower_bound_is_zero, got.penetration_lower_bound_is_zero);
+    // The same segments, summed in another order (tree order vs index order).
+    EXPECT_NEAR(brute.curve_length, got.curve_length, 1e-12 * (1.0 + got.curve_length));
     if (got.distance < 0.0) {  // the witnesses (touching pairs may differ: the first found)
       EXPECT_EQ(brute.point_a, got.point_a);
       EXPECT_EQ(brute.point_b, got.point_b);
@@ -156,6 +158,8 @@ TEST(Penetration, EdgeCrossingWithNoVertexInsideIsZeroAndFlagged) {
   EXPECT_EQ(r.distance, 0.0);
   EXPECT_TRUE(r.penetration_lower_bound_is_zero);
   EXPECT_EQ(r.deepest, Inside::none);
+  // The surfaces cross along eight segments of length 0.2: x = ±0.1 on A's four long faces.
+  EXPECT_NEAR(r.curve_length, 1.6, 1e-12);
   expect_reference(ma, Pose::identity(), mb, Pose::identity());
   // Touching face to face: 0 and flagged as well (touching and crossing are not told apart).
   const DistanceResult touch = distance(*make_model(cube()), Pose::identity(),
@@ -183,6 +187,7 @@ TEST(Penetration, ApartIsTheUnsignedAnswerBitForBit) {
     EXPECT_EQ(with.stats, plain.stats);
     EXPECT_EQ(with.deepest, Inside::none);
     EXPECT_FALSE(with.penetration_lower_bound_is_zero);
+    EXPECT_EQ(with.curve_length, 0.0);
   }
   EXPECT_GE(apart, 3);
 }

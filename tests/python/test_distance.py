@@ -172,6 +172,30 @@ def test_signed_distance_apart_is_the_unsigned_answer():
     assert signed.triangles == plain.triangles and signed.point_a.tolist() == plain.point_a.tolist()
 
 
+def box_mesh(lo, hi):
+    """The box [lo, hi] (outward triangles)."""
+    corners = np.array([[hi[0] if i & 1 else lo[0], hi[1] if i & 2 else lo[1], hi[2] if i & 4 else lo[2]]
+                        for i in range(8)], dtype=np.float64)
+    faces = np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+                      [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]], dtype=np.int64)
+    return tightbvh.Mesh(corners, faces)
+
+
+def test_signed_distance_of_crossing_edges_reports_the_curve_length():
+    # Two thin boxes crossed like a plus sign: no vertex inside the other solid, so the bound is 0;
+    # the surfaces cross along eight segments of length 0.2.
+    a = box_mesh([-2, -0.1, -0.1], [2, 0.1, 0.1])
+    b = box_mesh([-0.1, -2, -0.2], [0.1, 2, 0.2])
+    ta, tb = tightbvh.build(a), tightbvh.build(b)
+    d = tightbvh.distance(ta, a, None, tb, b, None, signed_distance=True)
+    assert d.distance == 0 and d.penetration_lower_bound_is_zero and d.deepest == "none"
+    assert d.curve_length == pytest.approx(1.6, rel=1e-12)
+    crossing = tightbvh.collide(ta, a, None, tb, b, None, all_pairs=True, contacts=True)
+    assert d.curve_length == pytest.approx(crossing.curve_length, rel=1e-12)
+    unsigned = tightbvh.distance(ta, a, None, tb, b, None)
+    assert unsigned.curve_length == 0
+
+
 def test_signed_distance_on_an_open_mesh_is_a_value_error():
     vertices, faces = tetrahedron()
     open_mesh = tightbvh.Mesh(vertices, faces[:3])

@@ -38,7 +38,7 @@ def fields(obj):
         tightbvh.Result: ["hit", "pairs", "stats", "inside"],
         tightbvh.Distance: ["distance", "beyond_upper_bound", "triangles", "point_a", "point_b",
                             "point_a_local", "point_b_local", "inside", "deepest", "deepest_vertex",
-                            "penetration_lower_bound_is_zero", "stats"],
+                            "penetration_lower_bound_is_zero", "curve_length", "stats"],
         tightbvh.Box: ["center", "axes", "half_extents", "volume"],
         tightbvh.Ball: ["center", "radius", "volume"],
         tightbvh.Ellipsoid: ["center", "axes", "radii", "volume"],

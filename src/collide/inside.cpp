@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -91,10 +92,9 @@ struct Ray {
   bool on_surface = false;  // p is on a triangle
 };
 
-// The rays' directions: +x first (cheap, and it makes degenerate cases easy to test), then a
-// fixed pseudo-random sequence (SplitMix64: the same on every platform).
+// The rays' directions after the first (classify_by_rays): a fixed pseudo-random sequence
+// (SplitMix64: the same on every platform).
 [[nodiscard]] Vec3 ray_direction(int attempt) {
-  if (attempt == 0) return Vec3::UnitX();
   std::uint64_t state = 0x9e3779b97f4a7c15ull * static_cast<std::uint64_t>(attempt);
   const auto next = [&state] {
     std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
@@ -121,16 +121,39 @@ constexpr int kMaxRays = 64;
   return length > 0.0 ? length : 1.0;
 }
 
+// The first ray's direction (query frame): of the six coordinate directions, the one that leaves
+// `box` (tree frame, containing pt) soonest, so that the ray crosses as few nodes as it can.
+// Any direction gives the same answer (a degenerate one is re-shot); this one is only cheaper.
+[[nodiscard]] Vec3 shortest_exit(const Obb& box, const Pose* to_tree, const Vec3& pt) {
+  const Vec3 local = box.to_local(pt);
+  Vec3 best = Vec3::UnitX();
+  double best_exit = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k)
+    for (const double sign : {1.0, -1.0}) {
+      const Vec3 d = sign * Vec3::Unit(k);
+      const Vec3 along = box.axes.transpose() * (to_tree != nullptr ? Vec3(to_tree->rotation * d) : d);
+      double exit = std::numeric_limits<double>::infinity();
+      for (int i = 0; i < 3; ++i) {
+        if (along[i] == 0.0) continue;
+        const double wall = along[i] > 0.0 ? box.half_extents[i] - local[i] : box.half_extents[i] + local[i];
+        exit = std::min(exit, std::max(wall, 0.0) / std::abs(along[i]));
+      }
+      if (exit < best_exit) best_exit = exit, best = d;
+    }
+  return best;
+}
+
 // Classifies p (query frame) against a closed surface given as `triangles_met(p, q, pt, qt,
 // ray)`, which adds the meetings of the segment pq (query frame; pt, qt the same in the tree
 // frame) to `ray`. `to_tree` maps the query frame into the frame of the boxes (nullptr: the same).
+// The first ray goes along `first` (a unit vector), the others along ray_direction().
 template <class Cast>
 [[nodiscard]] Containment classify_by_rays(const Vec3& p, const Pose* to_tree, const Vec3& center,
-                                           const Vec3& half_extents, Cast&& cast) {
+                                           const Vec3& half_extents, const Vec3& first, Cast&& cast) {
   const Vec3 pt = to_tree != nullptr ? to_tree->apply(p) : p;
   const double length = ray_length(pt, center, half_extents);
   for (int attempt = 0; attempt < kMaxRays; ++attempt) {
-    const Vec3 q = p + length * ray_direction(attempt);
+    const Vec3 q = p + length * (attempt == 0 ? first : ray_direction(attempt));
     if (q == p) continue;  // the length vanished against |p| (coordinates ~1e16 times the mesh)
     const Vec3 qt = to_tree != nullptr ? to_tree->apply(q) : q;
     Ray ray;
@@ -164,7 +187,7 @@ template <class Corner>
   const double margin = kBoxMargin * (query_detail::box_scale(tree.nodes[0].box) + pt.cwiseAbs().maxCoeff());
   // Outside the root box is outside the surface's hull (the common case for separated meshes).
   if (!root.contains(pt, margin)) return Containment::outside;
-  return classify_by_rays(p, to_tree, root.center, root.half_extents,
+  return classify_by_rays(p, to_tree, root.center, root.half_extents, shortest_exit(root, to_tree, pt),
                           [&](const Vec3& p, const Vec3& q, const Vec3& pt, const Vec3& qt, Ray& ray) {
                             const double m = margin + kBoxMargin * qt.cwiseAbs().maxCoeff();
                             stack.clear();
@@ -197,7 +220,7 @@ template <class Corner>
       lo = lo.cwiseMin(c);
       hi = hi.cwiseMax(c);
     }
-  return classify_by_rays(p, nullptr, 0.5 * (lo + hi), 0.5 * (hi - lo),
+  return classify_by_rays(p, nullptr, 0.5 * (lo + hi), 0.5 * (hi - lo), Vec3::UnitX(),
                           [&](const Vec3& p, const Vec3& q, const Vec3&, const Vec3&, Ray& ray) {
                             for (const Triangle& t : mesh.triangles)
                               if (!add_meeting(corner(t[0]), corner(t[1]), corner(t[2]), p, q, ray)) return;
@@ -240,6 +263,12 @@ Containment classify_point_brute_force(const Mesh& mesh, const Closedness& close
 }
 
 namespace query_detail {
+
+Containment classify_point_checked(const Tree& tree, const Mesh& mesh, const Vec3& p,
+                                   std::vector<std::uint32_t>& stack) {
+  return classify_with_tree(
+      tree, mesh, [&](std::uint32_t v) -> const Vec3& { return mesh.vertices[v]; }, nullptr, p, stack);
+}
 
 SolidMeshes::SolidMeshes(const char* query, const Mesh& ma, const Closedness* given_a, const Mesh& mb,
                          const Closedness* given_b) {

@@ -14,6 +14,7 @@
 
 #include "../tree/parallel.hpp"
 #include "query_common.hpp"
+#include "solid.hpp"
 #include "tightbvh/collide.hpp"
 #include "tightbvh/compact_box.hpp"
 #include "tightbvh/error.hpp"
@@ -101,6 +102,7 @@ struct Pending {
 // next point's seed, see search()).
 struct Scratch {
   std::vector<Pending> heap;
+  std::vector<std::uint32_t> ray_stack;  // classify_point's node stack
   std::uint32_t last = kNoTriangle;
 };
 
@@ -312,7 +314,7 @@ std::vector<ClosestPoint> signed_distance(const Model& model, const Pose& pose, 
     const Best best = search(model.tree(), model.mesh(), local, options.max_distance, scratch.last, scratch.heap);
     scratch.last = best.triangle;
     ClosestPoint r = to_result(best, pose, points[i], options.max_distance);
-    switch (classify_point(model.tree(), model.mesh(), model.closedness(), local)) {
+    switch (query_detail::classify_point_checked(model.tree(), model.mesh(), local, scratch.ray_stack)) {
       case Containment::inside: r.distance = -r.distance; break;
       case Containment::on_surface: r.distance = 0.0; break;
       case Containment::outside: break;
@@ -328,8 +330,9 @@ std::vector<Containment> contains(const Model& model, const Pose& pose, std::spa
   check_input("contains", nullptr, model.mesh(), pose, points);
   const Pose inverse = pose.inverse();
   std::vector<Containment> results(points.size());
-  for_each_point(points.size(), threads, [&](std::size_t i, Scratch&) {
-    results[i] = classify_point(model.tree(), model.mesh(), model.closedness(), to_mesh_frame(inverse, points[i]));
+  for_each_point(points.size(), threads, [&](std::size_t i, Scratch& scratch) {
+    results[i] = query_detail::classify_point_checked(model.tree(), model.mesh(), to_mesh_frame(inverse, points[i]),
+                                                      scratch.ray_stack);
   });
   return results;
 }

@@ -2,10 +2,13 @@
 // Internal: the solid part of collide() and distance() (QueryOptions::solid,
 // DistanceOptions::solid): after a descent that found no contact, is a piece of one mesh inside
 // the other's solid? Implemented in inside.cpp.
+#include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "tightbvh/closed.hpp"
 #include "tightbvh/collide.hpp"
+#include "tightbvh/inside.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/pose.hpp"
 #include "tightbvh/tree.hpp"
@@ -43,5 +46,10 @@ class SolidMeshes {
   const Closedness* a_ = nullptr;
   const Closedness* b_ = nullptr;
 };
+
+// classify_point() for a mesh whose closedness and tree the caller checked, with the caller's
+// stack (no allocation per point in a batch).
+[[nodiscard]] Containment classify_point_checked(const Tree& tree, const Mesh& mesh, const Vec3& p,
+                                                 std::vector<std::uint32_t>& stack);
 
 }  // namespace tightbvh::query_detail

@@ -67,21 +67,25 @@ enum class Meet : std::uint8_t { miss, cross, degenerate, on_surface };
   return Meet::degenerate;
 }
 
-// May the segment pq (frame of the tree) meet the box? A slab test on the box inflated by `margin`,
-// which absorbs the rounding of the transforms, so a triangle the segment meets is never culled.
+// May the segment pq (frame of the tree) meet the box? The separating-axis test of a segment
+// and a box (Ericson, Real-Time Collision Detection §5.3.3, TestSegmentAABB) in the box's frame:
+// the box's three face normals, then the three products of an axis with the segment's
+// direction; no division. On the box inflated by `margin`, which absorbs the rounding of the
+// transforms (and of the midpoint and half-vector), so a triangle the segment meets is never
+// culled; the edge axes' products also get their own rounding (a few ulps of each product) on
+// the side that keeps the box.
 [[nodiscard]] bool segment_meets_box(const Obb& box, const Vec3& p, const Vec3& q, double margin) {
-  const Vec3 lp = box.to_local(p), lq = box.to_local(q);
-  double t0 = 0.0, t1 = 1.0;
+  const Vec3 m = box.to_local(0.5 * (p + q));
+  const Vec3 w = box.axes.transpose() * (0.5 * (q - p));
+  const Vec3 aw = w.cwiseAbs();
+  const Vec3 h = box.half_extents.array() + margin;
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(m[k]) > h[k] + aw[k]) return false;
+  constexpr double kRound = 4.0 * std::numeric_limits<double>::epsilon();
   for (int k = 0; k < 3; ++k) {
-    const double h = box.half_extents[k] + margin, a = lp[k], b = lq[k];
-    if ((a < -h && b < -h) || (a > h && b > h)) return false;
-    const double d = b - a;
-    if (d == 0.0) continue;  // parallel to the slab and (by the line above) within it
-    double ta = (-h - a) / d, tb = (h - a) / d;
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-    if (t0 > t1) return false;
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    const double mw = m[i] * w[j], wm = m[j] * w[i];
+    if (std::abs(mw - wm) > h[i] * aw[j] + h[j] * aw[i] + kRound * (std::abs(mw) + std::abs(wm))) return false;
   }
   return true;
 }

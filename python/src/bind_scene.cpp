@@ -143,6 +143,16 @@ py::set name_set(const std::string& a, const std::string& b) {
   return s;
 }
 
+// Of a pair's two values, the one of the object `name` (`of_a` for name_a, `of_b` for name_b), as
+// trimesh's index(name) and point(name); KeyError for another name.
+template <class T>
+[[nodiscard]] T of_name(const std::string& name, const std::string& name_a, const T& of_a, const std::string& name_b,
+                        const T& of_b) {
+  if (name == name_a) return of_a;
+  if (name == name_b) return of_b;
+  throw py::key_error(name);
+}
+
 // A point where triangle ta of (ma, pa) touches triangle tb of (mb, pb): the closest point of the
 // two world-space triangles (they touch, so it lies on both within rounding).
 Vec3 contact_point(const Model& ma, const Pose& pa, std::uint32_t ta, const Model& mb, const Pose& pb,
@@ -639,9 +649,7 @@ void bind_scene(py::module_& m) {
       .def(
           "index",
           [](const PyContact& c, const std::string& name) {
-            if (name == c.name_a) return c.triangle_a;
-            if (name == c.name_b) return c.triangle_b;
-            throw py::key_error(name);
+            return of_name(name, c.name_a, c.triangle_a, c.name_b, c.triangle_b);
           },
           py::arg("name"), "the touching triangle of the object `name`")
       .def("__reduce_ex__", &reduce_ex)
@@ -659,17 +667,13 @@ void bind_scene(py::module_& m) {
       .def(
           "index",
           [](const PyDistanceData& d, const std::string& name) {
-            if (name == d.name_a) return d.triangle_a;
-            if (name == d.name_b) return d.triangle_b;
-            throw py::key_error(name);
+            return of_name(name, d.name_a, d.triangle_a, d.name_b, d.triangle_b);
           },
           py::arg("name"), "the closest triangle of the object `name` (None for a solid's containment)")
       .def(
           "point",
           [](const PyDistanceData& d, const std::string& name) {
-            if (name == d.name_a) return to_array(d.point_a);
-            if (name == d.name_b) return to_array(d.point_b);
-            throw py::key_error(name);
+            return to_array(of_name(name, d.name_a, d.point_a, d.name_b, d.point_b));
           },
           py::arg("name"), "the closest point (world frame) on the object `name`")
       .def("__reduce_ex__", &reduce_ex)

@@ -236,7 +236,9 @@ WidePair wide_pair(const WideFrame& f, const Vec3& ref_a, const Vec3& ref_b) {
     p.t[k] = static_cast<float>(t);
     err = std::max(err, std::abs(t - static_cast<double>(p.t[k])) + 0x1p-50 * mag * (1.0 + 0x1p-50));
   }
-  p.t_err = round_up(err * (1.0 + 0x1p-50));
+  // Rounded up without a branch: float(x (1 + 2^-20)) >= x (1 + 2^-20)(1 - 2^-24) > x for x in
+  // float's normal range, which the 1e-30 puts it in.
+  p.t_err = static_cast<float>(err * (1.0 + 0x1p-20) + 1e-30);
   return p;
 }
 

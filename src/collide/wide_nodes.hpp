@@ -22,13 +22,13 @@
 // sum_l eb_l |n.b_l| proves them disjoint. It evaluates the usual orthonormal formulas in float
 // and adds an allowance that bounds (1) the formulas' error for axes that are not quite
 // orthonormal and (2) the rounding of every float operation, so it never separates two boxes that
-// share a point; the derivation is at wide_allowance below.
+// share a point; the derivation is in the allowance section below.
 #include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
 
-#if defined(__SSE2__) || defined(_M_X64)
+#if (defined(__SSE2__) || defined(_M_X64)) && !defined(TIGHTBVH_WIDE_PORTABLE)
 #include <xmmintrin.h>
 #define TIGHTBVH_WIDE_SSE 1
 #endif
@@ -113,7 +113,7 @@ struct WideFrame {
   float r0[9];   // R0 rounded to float, r0[3 * l + k] = R0(l, k)
   Mat3 r0_d;     // R0 (double)
   Vec3 t0_d;     // t0 (double)
-  float kappa;   // the allowance's relative factor (wide_allowance): 8 eta + 24 u
+  float kappa;   // the allowance's relative factor (the allowance section): 8 eta + 24 u
   float margin;  // the query's box margin, rounded up
 };
 
@@ -211,7 +211,8 @@ inline M4 operator|(M4 x, M4 y) { return {_mm_or_ps(x.v, y.v)}; }
 inline M4 gt4(F4 x, F4 y) { return {_mm_cmpgt_ps(x.v, y.v)}; }
 inline unsigned bits4(M4 m) { return static_cast<unsigned>(_mm_movemask_ps(m.v)); }
 #else
-// Portable lanes: four floats, each operation lane by lane (compilers vectorize these loops).
+// Portable lanes (other architectures, or TIGHTBVH_WIDE_PORTABLE): four floats, each operation
+// lane by lane (compilers vectorize these loops).
 struct F4 {
   float v[4];
 };

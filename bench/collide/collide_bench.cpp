@@ -560,6 +560,45 @@ void BM_WideKernelOnly(benchmark::State& state) {
 }
 BENCHMARK(BM_WideKernelOnly)->ArgsProduct({{0, 1, 2}, {0, 1}})->ArgNames({"scenario", "tier"});
 
+// Args: scenario. The full kernel with the per-box hoist (M = A^T R0, A's offsets) timed and the
+// node pair's frame (wide_pair, double) and A's lane gather done before: what a call costs when a
+// descent carries B's node offset along instead of recomputing it in double.
+void BM_WideHoistAndKernel(benchmark::State& state) {
+  using namespace query_detail;
+  const Scene& sc = scene();
+  const int scenario = static_cast<int>(state.range(0));
+  const WideRecorded& rec = wide_recorded(scenario);
+  struct Prepared {
+    const WideFrame* f;
+    WidePair pair;
+    WideBox box;
+    const WideNode* node;
+  };
+  std::vector<WideFrame> frames;
+  frames.reserve(2 * rec.calls.size());
+  std::vector<Prepared> prepared;
+  for (std::size_t q = 0; q < rec.calls.size(); ++q) {
+    const Pose& rel = sc.poses[scenario][q];
+    frames.push_back(wide_frame(rel, rec.wa.eta, rec.wb.eta, 0.0));
+    frames.push_back(wide_frame(rel.inverse(), rec.wb.eta, rec.wa.eta, 0.0));
+    for (const WideCall& c : rec.calls[q]) {
+      const WideFrame& f = frames[2 * q + (c.swapped ? 1 : 0)];
+      const WideTree& wbox = c.swapped ? rec.wb : rec.wa;
+      const WideTree& wnode = c.swapped ? rec.wa : rec.wb;
+      prepared.push_back({&f, wide_pair(f, c.ref_box, c.ref_node), lane_box(wbox.nodes[c.box_node], c.lane),
+                          &wnode.nodes[c.node]});
+    }
+  }
+  std::size_t kept = 0;
+  for (auto _ : state)
+    for (const Prepared& p : prepared)
+      kept += static_cast<std::size_t>(__builtin_popcount(wide_overlap(hoist(*p.f, p.pair, p.box), *p.node)));
+  benchmark::DoNotOptimize(kept);
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * rec.lanes));
+  state.SetLabel(kScenarioNames[scenario]);
+}
+BENCHMARK(BM_WideHoistAndKernel)->DenseRange(0, 2)->ArgName("scenario");
+
 // Args: scenario. Today's double kernel on the same box pairs: the Tree's boxes, the other tree's
 // mapped into the box's frame through the per-query cache (as collide() does), two pairs per
 // call of the two-lane SSE2 test (boxes_overlap2), with collide()'s allowance as the margin.

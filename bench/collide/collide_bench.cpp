@@ -525,7 +525,7 @@ void BM_WideBoxTests(benchmark::State& state) {
 }
 BENCHMARK(BM_WideBoxTests)->ArgsProduct({{0, 1, 2}, {0, 1}})->ArgNames({"scenario", "tier"});
 
-// Args: scenario, tier. The kernel alone: each call's hoisted box (wide_pair and hoist) computed
+// Args: scenario, tier (0 faces, 1 full, 2 full in AVX2 pairs). The kernel alone: each call's hoisted box (wide_pair and hoist) computed
 // before timing, so this is the four lanes' arithmetic and the node's loads.
 void BM_WideKernelOnly(benchmark::State& state) {
   using namespace query_detail;
@@ -547,18 +547,34 @@ void BM_WideKernelOnly(benchmark::State& state) {
     }
   }
   std::size_t kept = 0;
-  for (auto _ : state)
+  const bool avx2 = avx2_bounds_available();
+  if (state.range(1) == 2 && !avx2) {
+    state.SkipWithError("no AVX2");
+    return;
+  }
+  for (auto _ : state) {
+    if (state.range(1) == 2) {  // consecutive calls two at a time in eight AVX2 lanes
+      std::size_t i = 0;
+      for (; i + 1 < hoisted.size(); i += 2)
+        kept += static_cast<std::size_t>(
+            __builtin_popcount(wide_overlap2(hoisted[i], *nodes[i], hoisted[i + 1], *nodes[i + 1], true)));
+      if (i < hoisted.size()) kept += static_cast<std::size_t>(__builtin_popcount(wide_overlap(hoisted[i], *nodes[i])));
+      continue;
+    }
     for (std::size_t i = 0; i < hoisted.size(); ++i) {
       const unsigned m = state.range(1) == 0 ? wide_overlap<WideTier::faces>(hoisted[i], *nodes[i])
                                              : wide_overlap<WideTier::full>(hoisted[i], *nodes[i]);
       kept += static_cast<std::size_t>(__builtin_popcount(m));
     }
+  }
   benchmark::DoNotOptimize(kept);
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * rec.lanes));
   state.counters["kept"] = static_cast<double>(kept) / static_cast<double>(state.iterations());
-  state.SetLabel(std::string(kScenarioNames[scenario]) + (state.range(1) ? "/full" : "/faces"));
+  state.SetLabel(std::string(kScenarioNames[scenario]) +
+                 (state.range(1) == 2 ? "/full-avx2x8" : state.range(1) ? "/full" : "/faces"));
 }
-BENCHMARK(BM_WideKernelOnly)->ArgsProduct({{0, 1, 2}, {0, 1}})->ArgNames({"scenario", "tier"});
+// tier 2: the full kernel, two calls at once in eight AVX2 lanes (wide_overlap2).
+BENCHMARK(BM_WideKernelOnly)->ArgsProduct({{0, 1, 2}, {0, 1, 2}})->ArgNames({"scenario", "tier"});
 
 // Args: scenario. The full kernel with the per-box hoist (M = A^T R0, A's offsets) timed and the
 // node pair's frame (wide_pair, double) and A's lane gather done before: what a call costs when a

@@ -23,6 +23,9 @@
 // and adds an allowance that bounds (1) the formulas' error for axes that are not quite
 // orthonormal and (2) the rounding of every float operation, so it never separates two boxes that
 // share a point; the derivation is in the allowance section below.
+//
+// The kernel itself is a template over the lane type (wide_kernel.hpp): four SSE lanes (or four
+// plain floats) here, eight AVX2 lanes in wide_avx2.cpp (wide_overlap2, two boxes of A at once).
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -37,28 +40,9 @@
 #include "tightbvh/obb.hpp"
 #include "tightbvh/pose.hpp"
 #include "tightbvh/tree.hpp"
+#include "wide_kernel.hpp"
 
 namespace tightbvh::query_detail {
-
-inline constexpr int kWideLanes = 4;
-
-/// One node: up to four child boxes in lanes (see the file comment).
-struct alignas(16) WideNode {
-  float axes[9][kWideLanes];        // axes[3 * i + k][lane]: component k of the child's axis i
-  float center[3][kWideLanes];      // the child's center minus the node's ref
-  float half[3][kWideLanes];        // half extents, widened (widen_box); empty lane: kEmptyHalf
-  std::int32_t child[kWideLanes];   // >= 0: wide node; < 0: leaf ~first; empty lane: 0
-  std::uint32_t count[kWideLanes];  // leaf: its triangles (> 0); internal or empty: 0
-};
-
-// An empty lane's half extents: a box of negative size, which every axis separates from anything
-// (its projected radius is hugely negative), so the kernel needs no lane mask. The root is never a
-// child, so child == 0 with count == 0 marks an empty lane unambiguously.
-inline constexpr float kEmptyHalf = -1e30f;
-
-[[nodiscard]] inline bool is_empty_lane(const WideNode& n, int lane) {
-  return n.child[lane] == 0 && n.count[lane] == 0;
-}
 
 /// A tree in wide nodes; nodes[0] is the root (a root that is itself a leaf gets a node with that
 /// one leaf as its only child).
@@ -128,16 +112,6 @@ struct WidePair {
 
 [[nodiscard]] WidePair wide_pair(const WideFrame& f, const Vec3& ref_a, const Vec3& ref_b);
 
-/// One box of A hoisted for the four children of a node of B: M = A^T R0 (in float), B's node ref
-/// in A's box frame (tn = A^T d, d = t - ca) and the lane-independent part of the allowance.
-struct WideHoisted {
-  float m[9];  // m[3 * i + k] = a_i . R0 e_k
-  float tn[3];
-  float ea[3];
-  float kappa;
-  float base;  // kappa (sum ea + margin) + 10 u |d|_1 + 4 t_err + margin
-};
-
 // ---- The allowance ----------------------------------------------------------------------------
 //
 // u = 2^-24 (float's unit roundoff), gamma_n = n u / (1 - n u) (Higham, Accuracy and Stability of
@@ -173,8 +147,6 @@ struct WideHoisted {
 // margin: the axes' lengths are 1 +- 3 eta, and margin is a distance.) The kSatEpsilon of
 // obb_overlap is not needed: near-parallel edges give a near-zero axis, on which L and the radii
 // are near zero and the allowance keeps the pair.
-inline constexpr float kUnitRoundoff = 0x1p-24f;
-
 [[nodiscard]] inline WideHoisted hoist(const WideFrame& f, const WidePair& p, const WideBox& a) {
   WideHoisted h;
   for (int i = 0; i < 3; ++i)
@@ -244,62 +216,48 @@ inline M4 gt4(F4 x, F4 y) {
 inline unsigned bits4(M4 m) { return m.v; }
 #endif
 
-/// How many of the 15 axes the kernel tries.
-enum class WideTier {
-  faces,  // the 6 face axes only (keeps more pairs: a coarser test, still conservative)
-  full,   // all 15, in tiers: A's faces, B's faces, then the 9 edge axes if a lane survives
-};
+// Lane operations of the generic kernel (wide_kernel.hpp) for F4.
+inline F4 lane_abs(F4 x) { return abs4(x); }
+inline M4 lane_gt(F4 x, F4 y) { return gt4(x, y); }
+inline bool all_lanes(M4 m) { return bits4(m) == 0xFu; }
 
 /// The kernel: A's hoisted box `h` against the four children of B's node `b`. Returns the mask of
 /// lanes kept (bit l: child l may overlap A's box within the margin); empty lanes are never kept.
 template <WideTier kTier = WideTier::full>
 [[nodiscard]] inline unsigned wide_overlap(const WideHoisted& h, const WideNode& b) {
-  F4 bx[9], cb[3], eb[3];
-  for (int r = 0; r < 9; ++r) bx[r] = load4(b.axes[r]);
+  WideLanes<F4> l;
+  for (int r = 0; r < 9; ++r) {
+    l.bx[r] = load4(b.axes[r]);
+    l.m[r] = splat4(h.m[r]);
+  }
   for (int k = 0; k < 3; ++k) {
-    cb[k] = load4(b.center[k]);
-    eb[k] = load4(b.half[k]);
+    l.cb[k] = load4(b.center[k]);
+    l.eb[k] = load4(b.half[k]);
+    l.tn[k] = splat4(h.tn[k]);
+    l.ea[k] = splat4(h.ea[k]);
   }
-  F4 m[9];
-  for (int r = 0; r < 9; ++r) m[r] = splat4(h.m[r]);
-  // R_j = M B_j and T_j = tn + M cb_j, lane by lane.
-  F4 r[3][3], t[3];
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j)
-      r[i][j] = m[3 * i] * bx[3 * j] + m[3 * i + 1] * bx[3 * j + 1] + m[3 * i + 2] * bx[3 * j + 2];
-    t[i] = splat4(h.tn[i]) + (m[3 * i] * cb[0] + m[3 * i + 1] * cb[1] + m[3 * i + 2] * cb[2]);
-  }
-  const F4 allow = splat4(h.kappa) * (abs4(t[0]) + abs4(t[1]) + abs4(t[2]) + (eb[0] + eb[1] + eb[2])) +
-                   splat4(16.0f * kUnitRoundoff) * (abs4(cb[0]) + abs4(cb[1]) + abs4(cb[2])) + splat4(h.base);
-  F4 abs_r[3][3];
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) abs_r[i][j] = abs4(r[i][j]);
-  const F4 ea[3] = {splat4(h.ea[0]), splat4(h.ea[1]), splat4(h.ea[2])};
-  // A's face normals.
-  M4 sep = gt4(abs4(t[0]), ea[0] + (eb[0] * abs_r[0][0] + eb[1] * abs_r[0][1] + eb[2] * abs_r[0][2]) + allow);
-  sep = sep | gt4(abs4(t[1]), ea[1] + (eb[0] * abs_r[1][0] + eb[1] * abs_r[1][1] + eb[2] * abs_r[1][2]) + allow);
-  sep = sep | gt4(abs4(t[2]), ea[2] + (eb[0] * abs_r[2][0] + eb[1] * abs_r[2][1] + eb[2] * abs_r[2][2]) + allow);
-  if (bits4(sep) == 0xF) return 0;
-  // B's face normals.
-  for (int j = 0; j < 3; ++j) {
-    const F4 ra = ea[0] * abs_r[0][j] + ea[1] * abs_r[1][j] + ea[2] * abs_r[2][j];
-    const F4 tj = t[0] * r[0][j] + t[1] * r[1][j] + t[2] * r[2][j];
-    sep = sep | gt4(abs4(tj), ra + eb[j] + allow);
-  }
-  if constexpr (kTier == WideTier::faces) return ~bits4(sep) & 0xFu;
-  if (bits4(sep) == 0xF) return 0;
-  // Edge axes A_i x B_j.
-  for (int i = 0; i < 3; ++i) {
-    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
-    for (int j = 0; j < 3; ++j) {
-      const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-      const F4 ra = ea[i1] * abs_r[i2][j] + ea[i2] * abs_r[i1][j];
-      const F4 rb = eb[j1] * abs_r[i][j2] + eb[j2] * abs_r[i][j1];
-      const F4 tl = t[i2] * r[i1][j] - t[i1] * r[i2][j];
-      sep = sep | gt4(abs4(tl), ra + rb + allow);
-    }
-  }
-  return ~bits4(sep) & 0xFu;
+  l.kappa = splat4(h.kappa);
+  l.base = splat4(h.base);
+  l.center_factor = splat4(16.0f * kUnitRoundoff);
+  return ~bits4(wide_separated<kTier, F4, M4>(l)) & 0xFu;
+}
+
+#ifdef TIGHTBVH_WIDE_AVX2
+/// Two boxes of A against the four children of a node of B each, in eight AVX2 lanes (wide_avx2.cpp):
+/// bits 0-3 are wide_overlap(h0, b0), bits 4-7 wide_overlap(h1, b1), bit for bit (same operations,
+/// no FMA). Only where avx2_bounds_available() (box_bounds4.hpp).
+[[nodiscard]] unsigned wide_overlap2_avx2(const WideHoisted& h0, const WideNode& b0, const WideHoisted& h1,
+                                          const WideNode& b1);
+#endif
+
+/// wide_overlap(h0, b0) | wide_overlap(h1, b1) << 4: eight AVX2 lanes when `avx2`, else two calls.
+[[nodiscard]] inline unsigned wide_overlap2(const WideHoisted& h0, const WideNode& b0, const WideHoisted& h1,
+                                            const WideNode& b1, bool avx2) {
+#ifdef TIGHTBVH_WIDE_AVX2
+  if (avx2) return wide_overlap2_avx2(h0, b0, h1, b1);
+#endif
+  (void)avx2;
+  return wide_overlap(h0, b0) | wide_overlap(h1, b1) << 4;
 }
 
 }  // namespace tightbvh::query_detail

@@ -14,7 +14,7 @@ namespace tightbvh::query_detail {
 
 inline constexpr int kWideLanes = 4;
 
-/// One node: up to four child boxes in lanes (see the file comment).
+/// One node: up to four child boxes in lanes (wide_nodes.hpp's file comment describes them).
 struct alignas(16) WideNode {
   float axes[9][kWideLanes];        // axes[3 * i + k][lane]: component k of the child's axis i
   float center[3][kWideLanes];      // the child's center minus the node's ref

@@ -28,6 +28,7 @@
 #include "collide/query_common.hpp"
 #include "collide/query_workspace.hpp"
 #include "collide/tri_batch.hpp"
+#include "collide/wide_nodes.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
 #include "tightbvh/collide_trace.hpp"
@@ -387,5 +388,274 @@ void BM_ReplayTriangleTests(benchmark::State& state) {
   state.SetLabel(std::string(kScenarioNames[state.range(0)]) + (state.range(1) ? "/all_pairs" : "/first_hit"));
 }
 BENCHMARK(BM_ReplayTriangleTests)->ArgsProduct({{0, 1, 2}, {0, 1}})->ArgNames({"scenario", "all_pairs"});
+
+// ---------------------------------------------------------------- wide float kernel (issue 38)
+
+// The box-pair tests a descent over wide nodes makes (wide_nodes.hpp) on the auto trees, per pose
+// of a scenario: each call tests one box against the four children of a node of the other tree.
+// The descent keeps every pair the kernel keeps (all_pairs), splits the larger box by volume
+// (B's when equal), stops at leaf pairs; a call whose box is B's (`swapped`) runs in the inverse
+// frame. Recorded once with the full kernel; replayed below.
+struct WideCall {
+  bool swapped;                // the box is B's, the node A's
+  std::int32_t box_node, node;  // the box is lane `lane` of wide node `box_node`
+  int lane;
+  Vec3 ref_box, ref_node;
+  std::uint32_t src_box;       // the box's Tree node (for the double replay)
+  std::uint32_t src_node[4];   // the node's lanes' Tree nodes; 0 when empty
+};
+
+struct WideRecorded {
+  const Tree *ta = nullptr, *tb = nullptr;
+  query_detail::WideTree wa, wb;
+  std::vector<std::uint32_t> sa, sb;
+  std::vector<std::vector<WideCall>> calls;  // per pose
+  std::size_t lanes = 0;                     // non-empty lanes over all calls
+};
+
+double lane_volume(const query_detail::WideNode& n, int lane) {
+  return static_cast<double>(n.half[0][lane]) * n.half[1][lane] * n.half[2][lane];
+}
+
+const WideRecorded& wide_recorded(int scenario) {
+  static std::map<int, std::unique_ptr<WideRecorded>> cache;
+  static std::map<std::pair<const Mesh*, int>, std::unique_ptr<Tree>> trees;
+  auto& slot = cache[scenario];
+  if (slot) return *slot;
+  using namespace query_detail;
+  const Scene& sc = scene();
+  slot = std::make_unique<WideRecorded>();
+  WideRecorded& rec = *slot;
+  rec.ta = tree_for(sc.a, kAutoFitter, trees);
+  rec.tb = tree_for(sc.b, kAutoFitter, trees);
+  rec.wa = build_wide(*rec.ta, &rec.sa);
+  rec.wb = build_wide(*rec.tb, &rec.sb);
+  struct Pair {
+    std::int32_t na, nb;  // A's box: lane la of na; B's box: lane lb of nb
+    int la, lb;
+    Vec3 ra, rb;          // refs of na and nb
+  };
+  for (const Pose& rel : sc.poses[scenario]) {
+    const WideFrame fab = wide_frame(rel, rec.wa.eta, rec.wb.eta, 0.0);
+    const WideFrame fba = wide_frame(rel.inverse(), rec.wb.eta, rec.wa.eta, 0.0);
+    auto& calls = rec.calls.emplace_back();
+    std::vector<Pair> stack;
+    const auto call = [&](bool swapped, std::int32_t box_node, int lane, const Vec3& ref_box, std::int32_t node,
+                          const Vec3& ref_node) {
+      const WideTree& wbox = swapped ? rec.wb : rec.wa;
+      const WideTree& wnode = swapped ? rec.wa : rec.wb;
+      const auto& sbox = swapped ? rec.sb : rec.sa;
+      const auto& snode = swapped ? rec.sa : rec.sb;
+      WideCall c{swapped, box_node, node, lane, ref_box, ref_node, sbox[4 * box_node + lane], {}};
+      for (int j = 0; j < kWideLanes; ++j) {
+        c.src_node[j] = snode[4 * node + j];
+        rec.lanes += !is_empty_lane(wnode.nodes[node], j);
+      }
+      calls.push_back(c);
+      const WideFrame& f = swapped ? fba : fab;
+      return wide_overlap(hoist(f, wide_pair(f, ref_box, ref_node), lane_box(wbox.nodes[box_node], lane)),
+                          wnode.nodes[node]);
+    };
+    for (int i = 0; i < kWideLanes; ++i) {
+      if (is_empty_lane(rec.wa.nodes[0], i)) continue;
+      const unsigned kept = call(false, 0, i, rec.wa.root_ref, 0, rec.wb.root_ref);
+      for (int j = 0; j < kWideLanes; ++j)
+        if (kept >> j & 1u) stack.push_back({0, 0, i, j, rec.wa.root_ref, rec.wb.root_ref});
+    }
+    while (!stack.empty() && calls.size() < 20000) {
+      const Pair p = stack.back();
+      stack.pop_back();
+      const WideNode& na = rec.wa.nodes[p.na];
+      const WideNode& nb = rec.wb.nodes[p.nb];
+      const bool a_internal = na.count[p.la] == 0, b_internal = nb.count[p.lb] == 0;
+      if (!a_internal && !b_internal) continue;  // a leaf pair
+      const Vec3 ca = child_ref(p.ra, na, p.la), cb = child_ref(p.rb, nb, p.lb);
+      if (b_internal && (!a_internal || lane_volume(nb, p.lb) >= lane_volume(na, p.la))) {
+        const unsigned kept = call(false, p.na, p.la, p.ra, nb.child[p.lb], cb);
+        for (int j = 0; j < kWideLanes; ++j)
+          if (kept >> j & 1u) stack.push_back({p.na, nb.child[p.lb], p.la, j, p.ra, cb});
+      } else {
+        const unsigned kept = call(true, p.nb, p.lb, p.rb, na.child[p.la], ca);
+        for (int i = 0; i < kWideLanes; ++i)
+          if (kept >> i & 1u) stack.push_back({na.child[p.la], p.nb, i, p.lb, ca, p.rb});
+      }
+    }
+  }
+  return rec;
+}
+
+std::size_t wide_calls(const WideRecorded& rec) {
+  std::size_t n = 0;
+  for (const auto& c : rec.calls) n += c.size();
+  return n;
+}
+
+// Args: scenario, tier (0 faces only, 1 full). The float kernel on the recorded calls, each with
+// its per-call setup: B's node ref in A's node frame (wide_pair, double), the box's lane loads and
+// the hoisted rotation M = A^T R0 (hoist), then the four lanes. Items: non-empty box pairs.
+void BM_WideBoxTests(benchmark::State& state) {
+  using namespace query_detail;
+  const Scene& sc = scene();
+  const int scenario = static_cast<int>(state.range(0));
+  const WideRecorded& rec = wide_recorded(scenario);
+  std::vector<WideFrame> fab, fba;
+  for (const Pose& rel : sc.poses[scenario]) {
+    fab.push_back(wide_frame(rel, rec.wa.eta, rec.wb.eta, 0.0));
+    fba.push_back(wide_frame(rel.inverse(), rec.wb.eta, rec.wa.eta, 0.0));
+  }
+  std::size_t kept = 0;
+  for (auto _ : state) {
+    for (std::size_t q = 0; q < rec.calls.size(); ++q)
+      for (const WideCall& c : rec.calls[q]) {
+        const WideFrame& f = c.swapped ? fba[q] : fab[q];
+        const WideTree& wbox = c.swapped ? rec.wb : rec.wa;
+        const WideTree& wnode = c.swapped ? rec.wa : rec.wb;
+        const WideHoisted h = hoist(f, wide_pair(f, c.ref_box, c.ref_node), lane_box(wbox.nodes[c.box_node], c.lane));
+        const unsigned m = state.range(1) == 0 ? wide_overlap<WideTier::faces>(h, wnode.nodes[c.node])
+                                               : wide_overlap<WideTier::full>(h, wnode.nodes[c.node]);
+        kept += static_cast<std::size_t>(__builtin_popcount(m));
+      }
+  }
+  benchmark::DoNotOptimize(kept);
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * rec.lanes));
+  state.counters["calls"] = static_cast<double>(wide_calls(rec));
+  state.counters["pairs"] = static_cast<double>(rec.lanes);
+  state.counters["B_per_tri"] = wide_bytes_per_triangle(rec.wa, sc.a.triangles.size());
+  state.SetLabel(std::string(kScenarioNames[scenario]) + (state.range(1) ? "/full" : "/faces"));
+}
+BENCHMARK(BM_WideBoxTests)->ArgsProduct({{0, 1, 2}, {0, 1}})->ArgNames({"scenario", "tier"});
+
+// Args: scenario, tier (0 faces, 1 full, 2 full in AVX2 pairs). The kernel alone: each call's hoisted box (wide_pair and hoist) computed
+// before timing, so this is the four lanes' arithmetic and the node's loads.
+void BM_WideKernelOnly(benchmark::State& state) {
+  using namespace query_detail;
+  const Scene& sc = scene();
+  const int scenario = static_cast<int>(state.range(0));
+  const WideRecorded& rec = wide_recorded(scenario);
+  std::vector<WideHoisted> hoisted;
+  std::vector<const WideNode*> nodes;
+  for (std::size_t q = 0; q < rec.calls.size(); ++q) {
+    const Pose& rel = sc.poses[scenario][q];
+    const WideFrame fab = wide_frame(rel, rec.wa.eta, rec.wb.eta, 0.0);
+    const WideFrame fba = wide_frame(rel.inverse(), rec.wb.eta, rec.wa.eta, 0.0);
+    for (const WideCall& c : rec.calls[q]) {
+      const WideFrame& f = c.swapped ? fba : fab;
+      const WideTree& wbox = c.swapped ? rec.wb : rec.wa;
+      const WideTree& wnode = c.swapped ? rec.wa : rec.wb;
+      hoisted.push_back(hoist(f, wide_pair(f, c.ref_box, c.ref_node), lane_box(wbox.nodes[c.box_node], c.lane)));
+      nodes.push_back(&wnode.nodes[c.node]);
+    }
+  }
+  std::size_t kept = 0;
+  const bool avx2 = avx2_bounds_available();
+  if (state.range(1) == 2 && !avx2) {
+    state.SkipWithError("no AVX2");
+    return;
+  }
+  for (auto _ : state) {
+    if (state.range(1) == 2) {  // consecutive calls two at a time in eight AVX2 lanes
+      std::size_t i = 0;
+      for (; i + 1 < hoisted.size(); i += 2)
+        kept += static_cast<std::size_t>(
+            __builtin_popcount(wide_overlap2(hoisted[i], *nodes[i], hoisted[i + 1], *nodes[i + 1], true)));
+      if (i < hoisted.size()) kept += static_cast<std::size_t>(__builtin_popcount(wide_overlap(hoisted[i], *nodes[i])));
+      continue;
+    }
+    for (std::size_t i = 0; i < hoisted.size(); ++i) {
+      const unsigned m = state.range(1) == 0 ? wide_overlap<WideTier::faces>(hoisted[i], *nodes[i])
+                                             : wide_overlap<WideTier::full>(hoisted[i], *nodes[i]);
+      kept += static_cast<std::size_t>(__builtin_popcount(m));
+    }
+  }
+  benchmark::DoNotOptimize(kept);
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * rec.lanes));
+  state.counters["kept"] = static_cast<double>(kept) / static_cast<double>(state.iterations());
+  state.SetLabel(std::string(kScenarioNames[scenario]) +
+                 (state.range(1) == 2 ? "/full-avx2x8" : state.range(1) ? "/full" : "/faces"));
+}
+// tier 2: the full kernel, two calls at once in eight AVX2 lanes (wide_overlap2).
+BENCHMARK(BM_WideKernelOnly)->ArgsProduct({{0, 1, 2}, {0, 1, 2}})->ArgNames({"scenario", "tier"});
+
+// Args: scenario. The full kernel with the per-box hoist (M = A^T R0, A's offsets) timed and the
+// node pair's frame (wide_pair, double) and A's lane gather done before: what a call costs when a
+// descent carries B's node offset along instead of recomputing it in double.
+void BM_WideHoistAndKernel(benchmark::State& state) {
+  using namespace query_detail;
+  const Scene& sc = scene();
+  const int scenario = static_cast<int>(state.range(0));
+  const WideRecorded& rec = wide_recorded(scenario);
+  struct Prepared {
+    const WideFrame* f;
+    WidePair pair;
+    WideBox box;
+    const WideNode* node;
+  };
+  std::vector<WideFrame> frames;
+  frames.reserve(2 * rec.calls.size());
+  std::vector<Prepared> prepared;
+  for (std::size_t q = 0; q < rec.calls.size(); ++q) {
+    const Pose& rel = sc.poses[scenario][q];
+    frames.push_back(wide_frame(rel, rec.wa.eta, rec.wb.eta, 0.0));
+    frames.push_back(wide_frame(rel.inverse(), rec.wb.eta, rec.wa.eta, 0.0));
+    for (const WideCall& c : rec.calls[q]) {
+      const WideFrame& f = frames[2 * q + (c.swapped ? 1 : 0)];
+      const WideTree& wbox = c.swapped ? rec.wb : rec.wa;
+      const WideTree& wnode = c.swapped ? rec.wa : rec.wb;
+      prepared.push_back({&f, wide_pair(f, c.ref_box, c.ref_node), lane_box(wbox.nodes[c.box_node], c.lane),
+                          &wnode.nodes[c.node]});
+    }
+  }
+  std::size_t kept = 0;
+  for (auto _ : state)
+    for (const Prepared& p : prepared)
+      kept += static_cast<std::size_t>(__builtin_popcount(wide_overlap(hoist(*p.f, p.pair, p.box), *p.node)));
+  benchmark::DoNotOptimize(kept);
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * rec.lanes));
+  state.SetLabel(kScenarioNames[scenario]);
+}
+BENCHMARK(BM_WideHoistAndKernel)->DenseRange(0, 2)->ArgName("scenario");
+
+// Args: scenario. Today's double kernel on the same box pairs: the Tree's boxes, the other tree's
+// mapped into the box's frame through the per-query cache (as collide() does), two pairs per
+// call of the two-lane SSE2 test (boxes_overlap2), with collide()'s allowance as the margin.
+void BM_WideCallsDoubleKernel(benchmark::State& state) {
+  using namespace query_detail;
+  const Scene& sc = scene();
+  const int scenario = static_cast<int>(state.range(0));
+  const WideRecorded& rec = wide_recorded(scenario);
+  const Tree& ta = *rec.ta;
+  const Tree& tb = *rec.tb;
+  BoxCache cab, cba;
+  std::size_t kept = 0;
+  for (auto _ : state) {
+    for (std::size_t q = 0; q < rec.calls.size(); ++q) {
+      const Pose& rel = sc.poses[scenario][q];
+      const Pose inv = rel.inverse();
+      const double margin = box_allowance(ta, tb, rel);
+      cab.begin(tb.nodes.size());
+      cba.begin(ta.nodes.size());
+      for (const WideCall& c : rec.calls[q]) {
+        const Tree& tbox = c.swapped ? tb : ta;
+        const Tree& tnode = c.swapped ? ta : tb;
+        BoxCache& cache = c.swapped ? cba : cab;
+        const Pose& p = c.swapped ? inv : rel;
+        const CompactBox& a = tbox.nodes[c.src_box].box;
+        for (int j = 0; j < kWideLanes; j += 2) {
+          if (c.src_node[j] == 0) break;
+          const std::uint32_t j1 = c.src_node[j + 1] == 0 ? c.src_node[j] : c.src_node[j + 1];
+          const auto o = boxes_overlap2(a, cache.mapped(c.src_node[j], tnode.nodes[c.src_node[j]].box, p),
+                                        tnode.nodes[c.src_node[j]].box.half_extents, a,
+                                        cache.mapped(j1, tnode.nodes[j1].box, p), tnode.nodes[j1].box.half_extents,
+                                        margin);
+          kept += o[0] + o[1];
+        }
+      }
+    }
+  }
+  benchmark::DoNotOptimize(kept);
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * rec.lanes));
+  state.SetLabel(kScenarioNames[scenario]);
+}
+BENCHMARK(BM_WideCallsDoubleKernel)->DenseRange(0, 2)->ArgName("scenario");
 
 }  // namespace

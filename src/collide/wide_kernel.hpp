@@ -1,0 +1,107 @@
+#pragma once
+// Internal: the wide nodes' layout and their box kernel over a lane type, with no dependency but
+// <cstdint>, so that wide_avx2.cpp (compiled for AVX2) can instantiate it without compiling any
+// shared inline function for those instructions (box_lanes.hpp says why). wide_nodes.hpp has the
+// layout's description, the allowance's derivation, and the four-lane instantiation.
+#include <cstdint>
+
+// x86-64 with GCC or Clang: src/collide/CMakeLists.txt compiles wide_avx2.cpp for AVX2 there.
+#if defined(__x86_64__) && defined(__GNUC__)
+#define TIGHTBVH_WIDE_AVX2 1
+#endif
+
+namespace tightbvh::query_detail {
+
+inline constexpr int kWideLanes = 4;
+
+/// One node: up to four child boxes in lanes (wide_nodes.hpp's file comment describes them).
+struct alignas(16) WideNode {
+  float axes[9][kWideLanes];        // axes[3 * i + k][lane]: component k of the child's axis i
+  float center[3][kWideLanes];      // the child's center minus the node's ref
+  float half[3][kWideLanes];        // half extents, widened (widen_box); empty lane: kEmptyHalf
+  std::int32_t child[kWideLanes];   // >= 0: wide node; < 0: leaf ~first; empty lane: 0
+  std::uint32_t count[kWideLanes];  // leaf: its triangles (> 0); internal or empty: 0
+};
+
+// An empty lane's half extents: a box of negative size, which every axis separates from anything
+// (its projected radius is hugely negative), so the kernel needs no lane mask. The root is never a
+// child, so child == 0 with count == 0 marks an empty lane unambiguously.
+inline constexpr float kEmptyHalf = -1e30f;
+
+[[nodiscard]] inline bool is_empty_lane(const WideNode& n, int lane) {
+  return n.child[lane] == 0 && n.count[lane] == 0;
+}
+
+/// One box of A hoisted for the four children of a node of B: M = A^T R0 (in float), B's node ref
+/// in A's box frame (tn = A^T d, d = t - ca) and the lane-independent part of the allowance.
+struct WideHoisted {
+  float m[9];  // m[3 * i + k] = a_i . R0 e_k
+  float tn[3];
+  float ea[3];
+  float kappa;
+  float base;  // kappa (sum ea + margin) + 10 u |d|_1 + 4 t_err + margin
+};
+
+inline constexpr float kUnitRoundoff = 0x1p-24f;  // float's unit roundoff u = 2^-24
+
+/// How many of the 15 axes the kernel tries.
+enum class WideTier {
+  faces,  // the 6 face axes only (keeps more pairs: a coarser test, still conservative)
+  full,   // all 15, in tiers: A's faces, B's faces, then the 9 edge axes if a lane survives
+};
+
+// The kernel's inputs in lanes: A's hoisted box (M, tn, ea, kappa, base: WideHoisted) and B's
+// children (axes bx, centers cb, half extents eb), one pair per lane.
+template <class V>
+struct WideLanes {
+  V m[9], tn[3], ea[3], kappa, base, center_factor;
+  V bx[9], cb[3], eb[3];
+};
+
+// The lanes that some axis separates by more than radius + margin + allowance (the allowance of
+// wide_nodes.hpp): R_j = M B_j and T_j = tn + M cb_j, then A's 3 face axes, B's 3 and, unless
+// kTier is faces, the 9 edge axes; stops early when every lane is separated. Needs, for V and
+// its mask M: + - *, lane_abs, lane_gt (false on NaN), M | M and all_lanes.
+template <WideTier kTier, class V, class M>
+[[nodiscard]] inline M wide_separated(const WideLanes<V>& l) {
+  V r[3][3], t[3];
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j)
+      r[i][j] = l.m[3 * i] * l.bx[3 * j] + l.m[3 * i + 1] * l.bx[3 * j + 1] + l.m[3 * i + 2] * l.bx[3 * j + 2];
+    t[i] = l.tn[i] + (l.m[3 * i] * l.cb[0] + l.m[3 * i + 1] * l.cb[1] + l.m[3 * i + 2] * l.cb[2]);
+  }
+  const V* eb = l.eb;
+  const V* ea = l.ea;
+  const V allow = l.kappa * (lane_abs(t[0]) + lane_abs(t[1]) + lane_abs(t[2]) + (eb[0] + eb[1] + eb[2])) +
+                  l.center_factor * (lane_abs(l.cb[0]) + lane_abs(l.cb[1]) + lane_abs(l.cb[2])) + l.base;
+  V abs_r[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) abs_r[i][j] = lane_abs(r[i][j]);
+  // A's face normals.
+  M sep = lane_gt(lane_abs(t[0]), ea[0] + (eb[0] * abs_r[0][0] + eb[1] * abs_r[0][1] + eb[2] * abs_r[0][2]) + allow);
+  sep = sep | lane_gt(lane_abs(t[1]), ea[1] + (eb[0] * abs_r[1][0] + eb[1] * abs_r[1][1] + eb[2] * abs_r[1][2]) + allow);
+  sep = sep | lane_gt(lane_abs(t[2]), ea[2] + (eb[0] * abs_r[2][0] + eb[1] * abs_r[2][1] + eb[2] * abs_r[2][2]) + allow);
+  if (all_lanes(sep)) return sep;
+  // B's face normals.
+  for (int j = 0; j < 3; ++j) {
+    const V ra = ea[0] * abs_r[0][j] + ea[1] * abs_r[1][j] + ea[2] * abs_r[2][j];
+    const V tj = t[0] * r[0][j] + t[1] * r[1][j] + t[2] * r[2][j];
+    sep = sep | lane_gt(lane_abs(tj), ra + eb[j] + allow);
+  }
+  if constexpr (kTier == WideTier::faces) return sep;
+  if (all_lanes(sep)) return sep;
+  // Edge axes A_i x B_j.
+  for (int i = 0; i < 3; ++i) {
+    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+    for (int j = 0; j < 3; ++j) {
+      const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+      const V ra = ea[i1] * abs_r[i2][j] + ea[i2] * abs_r[i1][j];
+      const V rb = eb[j1] * abs_r[i][j2] + eb[j2] * abs_r[i][j1];
+      const V tl = t[i2] * r[i1][j] - t[i1] * r[i2][j];
+      sep = sep | lane_gt(lane_abs(tl), ra + rb + allow);
+    }
+  }
+  return sep;
+}
+
+}  // namespace tightbvh::query_detail

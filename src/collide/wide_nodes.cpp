@@ -1,0 +1,245 @@
+// The wide nodes' construction: widening each box outward so that the float box contains the box
+// it stands for, and the query frame's bounds. See wide_nodes.hpp.
+#include "wide_nodes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "tightbvh/error.hpp"
+
+namespace tightbvh::query_detail {
+namespace {
+
+// The smallest float >= x (x finite, within float's range).
+float round_up(double x) {
+  float f = static_cast<float>(x);
+  if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return f;
+}
+
+// Gram deviation of float axes (columns of `af`): E = af^T af - I computed in double. Each product
+// of two floats is exact in double; the two additions and the subtraction of delta_ik round by at
+// most 3 2^-53 (|sum| + 1) < 1e-15, added to every |E_ik|.
+struct Gram {
+  double eta = 0.0;                 // max |E_ik|
+  double norm = 0.0;                // max_i sum_k |E_ik| (>= |E|_2, E symmetric)
+  double col[3] = {0.0, 0.0, 0.0};  // |E e_k|_2
+};
+
+Gram gram(const Eigen::Matrix3f& af) {
+  Gram g;
+  double e[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) {
+      double s = 0.0;
+      for (int l = 0; l < 3; ++l) s += static_cast<double>(af(l, i)) * static_cast<double>(af(l, k));
+      e[i][k] = std::abs(s - (i == k ? 1.0 : 0.0)) + 1e-15;
+      g.eta = std::max(g.eta, e[i][k]);
+    }
+  for (int i = 0; i < 3; ++i) {
+    g.norm = std::max(g.norm, e[i][0] + e[i][1] + e[i][2]);
+    g.col[i] = std::sqrt(e[0][i] * e[0][i] + e[1][i] * e[1][i] + e[2][i] * e[2][i]) * (1.0 + 0x1p-50);
+  }
+  return g;
+}
+
+// The widening. The box to contain is the parallelepiped { c + sum_k s_k g_k : |s_k| <= e_k } of
+// generators g_k; the stored one is { ref + o + sum_k t_k a_k : |t_k| <= e'_k } with float axes
+// a_k = g_k - Delta_k and float offset o = c - ref - Delta_c. A point x = c + sum s_k g_k is
+//   x = ref + o + sum_k s_k a_k + r,   r = Delta_c + sum_k s_k Delta_k,
+// and r = A v with v = A^-1 r, |v_i| <= |A^-1|_2 |r|_2 <= (|Delta_c|_2 + sum_k e_k |Delta_k|_2) /
+// sqrt(1 - |E|) = delta, since sigma_min(A)^2 = lambda_min(A^T A) >= 1 - |E|_2 (E = A^T A - I). So
+// t = s + v, and e'_i = e_i + delta contains x. Every double operation here rounds by at most
+// 2^-53 relative; the (1 + 2^-48) factors cover them, and the half extents are rounded up to float.
+WideBox widen(const Vec3& c, const Vec3& ref, const Eigen::Matrix3f& af, const Vec3& e, const double (&delta_k)[3],
+              const Gram& g, double& eta) {
+  if (!c.allFinite() || !ref.allFinite() || !e.allFinite() || !af.allFinite())
+    throw InputError("wide nodes: a box or reference point is not finite");
+  if (g.norm > 1e-3)
+    throw InputError("wide nodes: box axes are far from orthonormal (|A^T A - I| = " + std::to_string(g.norm) + ")");
+  WideBox out;
+  double dc2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double off = c[k] - ref[k];
+    out.center[k] = static_cast<float>(off);
+    // off - float(off) is exact; c - ref itself rounded by at most 2^-53 |off|.
+    const double dc = std::abs(off - static_cast<double>(out.center[k])) + 0x1p-53 * std::abs(off);
+    dc2 += dc * dc;
+  }
+  double delta = std::sqrt(dc2) * (1.0 + 0x1p-50);
+  for (int k = 0; k < 3; ++k) delta += e[k] * delta_k[k];
+  delta = delta / std::sqrt(1.0 - g.norm) * (1.0 + 0x1p-48);
+  for (int i = 0; i < 3; ++i) {
+    if (e[i] < 0.0) throw InputError("wide nodes: a box has a negative half extent");
+    out.half[i] = round_up((e[i] + delta) * (1.0 + 0x1p-50));
+    for (int k = 0; k < 3; ++k) out.axes[3 * i + k] = af(k, i);
+  }
+  eta = std::max(eta, g.eta);
+  return out;
+}
+
+}  // namespace
+
+WideBox widen_box(const Obb& box, const Vec3& ref, double& eta) {
+  const Eigen::Matrix3f af = box.axes.cast<float>();
+  double delta_k[3];
+  for (int k = 0; k < 3; ++k)  // g_k - a_k is exact in double (a_k is g_k rounded to float)
+    delta_k[k] = (box.axes.col(k) - af.col(k).cast<double>()).norm() * (1.0 + 0x1p-50);
+  return widen(box.center, ref, af, box.half_extents, delta_k, gram(af), eta);
+}
+
+// The slab box { x : |a_i . (x - c)| <= e_i } is the parallelepiped of generators g_k = A^-T e_k
+// (columns of A^-T): Delta = A^-T - A = A^-T (I - A^T A) = -A^-T E, so |Delta_k|_2 <= |E e_k|_2 /
+// sqrt(1 - |E|).
+WideBox widen_box(const CompactBox& box, const Vec3& ref, double& eta) {
+  const Gram g = gram(box.axes);
+  double delta_k[3];
+  for (int k = 0; k < 3; ++k) delta_k[k] = g.col[k] / std::sqrt(1.0 - std::min(g.norm, 0.5)) * (1.0 + 0x1p-50);
+  return widen(box.center_d(), ref, box.axes, box.half_extents_d(), delta_k, g, eta);
+}
+
+namespace {
+
+void set_lane(WideNode& n, int lane, const WideBox& b) {
+  for (int r = 0; r < 9; ++r) n.axes[r][lane] = b.axes[r];
+  for (int k = 0; k < 3; ++k) {
+    n.center[k][lane] = b.center[k];
+    n.half[k][lane] = b.half[k];
+  }
+}
+
+WideNode empty_node() {
+  WideNode n{};
+  for (int lane = 0; lane < kWideLanes; ++lane) {
+    for (int r = 0; r < 9; ++r) n.axes[r][lane] = (r % 4 == 0) ? 1.0f : 0.0f;  // identity
+    for (int k = 0; k < 3; ++k) {
+      n.center[k][lane] = 0.0f;
+      n.half[k][lane] = kEmptyHalf;
+    }
+    n.child[lane] = 0;
+    n.count[lane] = 0;
+  }
+  return n;
+}
+
+std::int32_t leaf_ref(const Node& leaf) {
+  if (leaf.first > static_cast<std::uint32_t>(std::numeric_limits<std::int32_t>::max()))
+    throw InputError("wide nodes: more than 2^31 triangles");
+  return ~static_cast<std::int32_t>(leaf.first);
+}
+
+struct Builder {
+  const Tree& tree;
+  WideTree& out;
+  std::vector<std::uint32_t>* sources;
+
+  // The wide node of binary internal node `bi` whose ref is `ref`: starting from bi's two
+  // children, the internal child with the largest box is replaced by its two children until there
+  // are four (or only leaves): a node is full wherever the tree is deep enough, which halves the
+  // node count against taking two levels as they come. Returns its index.
+  std::int32_t make(std::uint32_t bi, const Vec3& ref) {
+    const Node& n = tree.nodes[bi];
+    std::uint32_t kids[4] = {n.first, n.first + 1, 0, 0};
+    int count = 2;
+    while (count < 4) {
+      int widest = -1;
+      double widest_volume = -1.0;
+      for (int k = 0; k < count; ++k) {
+        const Node& c = tree.nodes[kids[k]];
+        if (!c.is_leaf() && c.box.volume() > widest_volume) {
+          widest = k;
+          widest_volume = c.box.volume();
+        }
+      }
+      if (widest < 0) break;
+      const std::uint32_t first = tree.nodes[kids[widest]].first;
+      kids[widest] = first;
+      kids[count++] = first + 1;
+    }
+    const auto index = static_cast<std::int32_t>(out.nodes.size());
+    out.nodes.push_back(empty_node());
+    if (sources) sources->insert(sources->end(), {0u, 0u, 0u, 0u});
+    for (int lane = 0; lane < count; ++lane) {
+      const Node& g = tree.nodes[kids[lane]];
+      set_lane(out.nodes[index], lane, widen_box(g.box, ref, out.eta));
+      if (sources) (*sources)[4 * static_cast<std::size_t>(index) + lane] = kids[lane];
+      if (g.is_leaf()) {
+        out.nodes[index].child[lane] = leaf_ref(g);
+        out.nodes[index].count[lane] = g.count;
+      }
+    }
+    for (int lane = 0; lane < count; ++lane) {
+      const Node& g = tree.nodes[kids[lane]];
+      if (g.is_leaf()) continue;
+      const std::int32_t c = make(kids[lane], child_ref(ref, out.nodes[index], lane));
+      out.nodes[index].child[lane] = c;
+    }
+    return index;
+  }
+};
+
+}  // namespace
+
+WideTree build_wide(const Tree& tree, std::vector<std::uint32_t>* sources) {
+  WideTree out;
+  if (tree.nodes.empty()) return out;
+  if (sources) sources->clear();
+  const Node& root = tree.nodes[0];
+  out.root_ref = root.box.center_d();
+  if (root.is_leaf()) {
+    out.nodes.push_back(empty_node());
+    set_lane(out.nodes[0], 0, widen_box(root.box, out.root_ref, out.eta));
+    out.nodes[0].child[0] = leaf_ref(root);
+    out.nodes[0].count[0] = root.count;
+    if (sources) sources->insert(sources->end(), {0u, 0u, 0u, 0u});
+    return out;
+  }
+  out.nodes.reserve(tree.nodes.size() / 3 + 1);
+  Builder{tree, out, sources}.make(0, out.root_ref);
+  return out;
+}
+
+double wide_bytes_per_triangle(const WideTree& wide, std::size_t triangles) {
+  return triangles == 0 ? 0.0
+                        : static_cast<double>(wide.nodes.size() * sizeof(WideNode)) / static_cast<double>(triangles);
+}
+
+WideFrame wide_frame(const Pose& rel, double eta_a, double eta_b, double margin) {
+  if (!rel.rotation.allFinite() || !rel.translation.allFinite()) throw InputError("wide nodes: pose is not finite");
+  if (!(margin >= 0.0) || !std::isfinite(margin)) throw InputError("wide nodes: margin must be finite and >= 0");
+  WideFrame f;
+  f.r0_d = rel.rotation;
+  f.t0_d = rel.translation;
+  for (int l = 0; l < 3; ++l)
+    for (int k = 0; k < 3; ++k) f.r0[3 * l + k] = static_cast<float>(rel.rotation(l, k));
+  // |R0^T R0 - I| entries in double (rounding < 1e-15, added); B's axes mapped by R0 have Gram
+  // B^T (I + E0) B: within eta_b + |E0|_2 (1 + 3 eta_b) <= eta_b + 3.1 max |E0_ik| of I.
+  const Mat3 e0 = rel.rotation.transpose() * rel.rotation - Mat3::Identity();
+  const double e0_max = e0.cwiseAbs().maxCoeff() + 1e-15;
+  const double eta = std::max(eta_a, eta_b + 3.1 * e0_max);
+  if (eta > 1e-4) throw InputError("wide nodes: pose rotation or box axes far from orthonormal");
+  f.kappa = round_up((8.0 * eta + 24.0 * 0x1p-24) * (1.0 + 1e-6));
+  f.margin = round_up(margin);
+  return f;
+}
+
+WidePair wide_pair(const WideFrame& f, const Vec3& ref_a, const Vec3& ref_b) {
+  WidePair p;
+  double err = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double t = f.r0_d(k, 0) * ref_b[0] + f.r0_d(k, 1) * ref_b[1] + f.r0_d(k, 2) * ref_b[2] + f.t0_d[k] - ref_a[k];
+    // Five double operations: within gamma_5 < 2^-50 of the sum of the terms' magnitudes.
+    const double mag = std::abs(f.r0_d(k, 0) * ref_b[0]) + std::abs(f.r0_d(k, 1) * ref_b[1]) +
+                       std::abs(f.r0_d(k, 2) * ref_b[2]) + std::abs(f.t0_d[k]) + std::abs(ref_a[k]);
+    p.t[k] = static_cast<float>(t);
+    err = std::max(err, std::abs(t - static_cast<double>(p.t[k])) + 0x1p-50 * mag * (1.0 + 0x1p-50));
+  }
+  // Rounded up without a branch: float(x (1 + 2^-20)) >= x (1 + 2^-20)(1 - 2^-24) > x for x in
+  // float's normal range, which the 1e-30 puts it in.
+  p.t_err = static_cast<float>(err * (1.0 + 0x1p-20) + 1e-30);
+  return p;
+}
+
+}  // namespace tightbvh::query_detail

@@ -1,0 +1,263 @@
+#pragma once
+// Internal: the query-time node layout in single precision (issue 38) and its box-pair kernel.
+//
+// Layout. A WideNode holds up to four child boxes, each field an array of four floats (one lane
+// per child, structure of arrays), so that one box of A is tested against the four children of a
+// node of B from contiguous loads (the W-wide nodes of Embree's BVH4 and Jolt's quad-tree). It is
+// built from a binary Tree by collapsing levels: a node's children are its binary descendants
+// found by opening the largest internal box until there are four (build_wide). A child reference
+// >= 0 names a wide node; < 0 is a leaf,
+// ~first into Tree::triangle_order with `count` triangles, so no leaf lookup sits in the descent.
+//
+// Coordinates. Each node has a reference point `ref` (double, in the mesh frame), and its
+// children's centers are stored relative to it, so the float offsets stay small far from the
+// origin. The root's ref is its box center; a child node's ref is child_ref(parent ref, offset),
+// one double addition that the builder and the descent make alike.
+//
+// Boxes. A stored child box is the parallelepiped
+//   P = { ref + c + sum_k t_k a_k : |t_k| <= e_k }        (a_k, c, e_k floats as stored)
+// with the float axes a_k orthonormal only to a few float ulps (eta below). It contains the box it
+// was built from (widen_box, wide_nodes.cpp, derives the widening). The kernel's separating-axis
+// test is sound for parallelepipeds: along any axis n, |n.(cb - ca)| > sum_k ea_k |n.a_k| +
+// sum_l eb_l |n.b_l| proves them disjoint. It evaluates the usual orthonormal formulas in float
+// and adds an allowance that bounds (1) the formulas' error for axes that are not quite
+// orthonormal and (2) the rounding of every float operation, so it never separates two boxes that
+// share a point; the derivation is in the allowance section below.
+//
+// The kernel itself is a template over the lane type (wide_kernel.hpp): four SSE lanes (or four
+// plain floats) here, eight AVX2 lanes in wide_avx2.cpp (wide_overlap2, two boxes of A at once).
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#if (defined(__SSE2__) || defined(_M_X64)) && !defined(TIGHTBVH_WIDE_PORTABLE)
+#include <xmmintrin.h>
+#define TIGHTBVH_WIDE_SSE 1
+#endif
+
+#include "tightbvh/math.hpp"
+#include "tightbvh/obb.hpp"
+#include "tightbvh/pose.hpp"
+#include "tightbvh/tree.hpp"
+#include "wide_kernel.hpp"
+
+namespace tightbvh::query_detail {
+
+/// A tree in wide nodes; nodes[0] is the root (a root that is itself a leaf gets a node with that
+/// one leaf as its only child).
+struct WideTree {
+  std::vector<WideNode> nodes;
+  Vec3 root_ref = Vec3::Zero();  // ref of nodes[0]
+  double eta = 0.0;              // max |a_i . a_k - delta_ik| over every stored box's float axes (a bound)
+};
+
+// The ref of child `lane` of a node whose ref is `ref` (the builder and the descent alike).
+[[nodiscard]] inline Vec3 child_ref(const Vec3& ref, const WideNode& n, int lane) {
+  return {ref[0] + static_cast<double>(n.center[0][lane]), ref[1] + static_cast<double>(n.center[1][lane]),
+          ref[2] + static_cast<double>(n.center[2][lane])};
+}
+
+/// One box in a node's frame, as the kernel's A side reads it (a lane of a WideNode).
+struct WideBox {
+  float axes[9];    // axes[3 * i + k]: component k of axis i
+  float center[3];  // relative to the node's ref
+  float half[3];
+};
+
+[[nodiscard]] inline WideBox lane_box(const WideNode& n, int lane) {
+  WideBox b;
+  for (int r = 0; r < 9; ++r) b.axes[r] = n.axes[r][lane];
+  for (int k = 0; k < 3; ++k) {
+    b.center[k] = n.center[k][lane];
+    b.half[k] = n.half[k][lane];
+  }
+  return b;
+}
+
+/// The float box that contains `box` (double center, axes taken as the generators of the box
+/// { c + sum_k s_k a_k : |s_k| <= e_k }), relative to `ref`. `eta` gets max(eta, the stored axes'
+/// orthonormality bound). Throws InputError on non-finite input or axes far from orthonormal.
+[[nodiscard]] WideBox widen_box(const Obb& box, const Vec3& ref, double& eta);
+/// The float box that contains the slab box of `box` ({ x : |a_i . (x - c)| <= e_i }, what a Tree
+/// node's box contains its triangles as), relative to `ref`; `eta` as above.
+[[nodiscard]] WideBox widen_box(const CompactBox& box, const Vec3& ref, double& eta);
+
+/// The wide tree of `tree` (empty for an empty tree). `sources`, when given, gets for each lane
+/// (4 per node) the index of the Tree node whose box it holds (0 for an empty lane).
+[[nodiscard]] WideTree build_wide(const Tree& tree, std::vector<std::uint32_t>* sources = nullptr);
+
+/// Bytes of wide nodes per triangle of `tree`'s mesh (the node array only).
+[[nodiscard]] double wide_bytes_per_triangle(const WideTree& wide, std::size_t triangles);
+
+// ---- The query's frame ------------------------------------------------------------------------
+
+/// The relative pose as the kernel reads it: B's mesh frame into A's, x_A = R0 x_B + t0.
+struct WideFrame {
+  float r0[9];   // R0 rounded to float, r0[3 * l + k] = R0(l, k)
+  Mat3 r0_d;     // R0 (double)
+  Vec3 t0_d;     // t0 (double)
+  float kappa;   // the allowance's relative factor (the allowance section): 8 eta + 24 u
+  float margin;  // the query's box margin, rounded up
+};
+
+/// `rel` maps B's mesh frame into A's; `eta_a`, `eta_b` the trees' eta; `margin` >= 0.
+[[nodiscard]] WideFrame wide_frame(const Pose& rel, double eta_a, double eta_b, double margin);
+
+/// One node pair: B's node ref in A's node frame, rounded to float, and a bound on that rounding.
+struct WidePair {
+  float t[3];
+  float t_err;  // >= |t - (R0 ref_b + t0 - ref_a)| in each component
+};
+
+[[nodiscard]] WidePair wide_pair(const WideFrame& f, const Vec3& ref_a, const Vec3& ref_b);
+
+// ---- The allowance ----------------------------------------------------------------------------
+//
+// u = 2^-24 (float's unit roundoff), gamma_n = n u / (1 - n u) (Higham, Accuracy and Stability of
+// Numerical Algorithms, §3.1; Handbook of Floating-Point Arithmetic ch. 6; PBRT §6.8): a float sum
+// of n products, in any order and with or without fused multiply-adds, is within
+// gamma_n sum |a_i b_i| of the exact one. eta bounds |a_i . a_k - delta_ik| for A's stored axes,
+// for B's, and for B's axes mapped by R0 (wide_frame: eta_b + 3.1 |R0^T R0 - I|). All vectors
+// have components <= 1 + eta, so |a|_1 <= sqrt(3)(1 + eta) < 1.75.
+//
+// Exact quantities, in A's node frame: D_j = t + R0 cb_j - ca, T_j = A^T D_j, R_j = A^T R0 B_j.
+// (1) Formulas for near-orthonormal axes (with G = A^T A = I + E, |E_ik| <= eta):
+//   - A's face a_i: true radius of A is sum_k ea_k |G_ik| <= ea_i + eta sum ea; the rest is exact.
+//   - B's face R0 b_j: the kernel's offset sum_i T_ij R_ij = D^T A A^T R0 b_j differs from D.R0 b_j
+//     by |D^T (A A^T - I) R0 b_j| <= 3 eta |D|_2 (1 + eta) <= 3.1 eta |T|_1 (|D|_2 <=
+//     |T|_2 / sqrt(1 - 3 eta)); B's radius as for A's face.
+//   - Edge a_i x R0 b_j: the kernel's offset T_i2 R_i1j - T_i1 R_i2j is (a_i1 x a_i2).(R0 b_j x D)
+//     (Lagrange's identity), and a_i1 x a_i2 = det(A) A^-T e_i lies within 7 eta of +-a_i
+//     (|det A - 1| <= 4.5 eta, |A^-T e_i - a_i| <= |E e_i| / sqrt(1 - 3 eta)); likewise each radius
+//     term's cross product: errors <= 7.1 eta (|T|_1 + sum ea + sum eb).
+//   So the formulas are off by at most 7.2 eta (|T|_1 + sum ea + sum eb) on any axis.
+// (2) Rounding. M = A^T fl(R0): each entry within gamma_4 (1 + eta)^2 < 4.1 u of exact, |M_ik| <=
+//   1.02; R_ij = sum_k M_ik b_jk: within delta_R = 13 u. tn = A^T fl(t - ca): within 4.8 u |d|_1 +
+//   1.75 t_err; T_j = tn + M cb_j: within err_T = 4.8 u |d|_1 + 1.75 t_err + 7.3 u |cb_j|_1 +
+//   u |T_j|_inf. Each axis' offset L combines T with weights sum |R| <= 1.8: within
+//   1.8 err_T + (gamma_3 + delta_R) 1.02 |T|_1; each radius (<= 1.02 (sum ea + sum eb), nonnegative
+//   terms) within gamma_6 of its value plus delta_R (sum ea + sum eb), the final additions of the
+//   allowance and the margin included.
+// Together, with margins for the rounding of the allowance itself (a float sum of nonnegative
+// terms, low by at most gamma_8 < 1e-6 relative, covered by rounding each constant up):
+//   allowance_j = kappa (|T_j|_1 + sum eb_j + sum ea + margin) + 16 u |cb_j|_1 + 10 u |d|_1
+//                 + 4 t_err,     kappa = 8 eta + 24 u,
+// and a lane is separated only when some axis has |L| > radius + margin + allowance_j. (kappa
+// margin: the axes' lengths are 1 +- 3 eta, and margin is a distance.) The kSatEpsilon of
+// obb_overlap is not needed: near-parallel edges give a near-zero axis, on which L and the radii
+// are near zero and the allowance keeps the pair.
+[[nodiscard]] inline WideHoisted hoist(const WideFrame& f, const WidePair& p, const WideBox& a) {
+  WideHoisted h;
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k)
+      h.m[3 * i + k] = a.axes[3 * i] * f.r0[k] + a.axes[3 * i + 1] * f.r0[3 + k] + a.axes[3 * i + 2] * f.r0[6 + k];
+  const float d[3] = {p.t[0] - a.center[0], p.t[1] - a.center[1], p.t[2] - a.center[2]};
+  for (int i = 0; i < 3; ++i) {
+    h.tn[i] = a.axes[3 * i] * d[0] + a.axes[3 * i + 1] * d[1] + a.axes[3 * i + 2] * d[2];
+    h.ea[i] = a.half[i];
+  }
+  const float d1 = std::abs(d[0]) + std::abs(d[1]) + std::abs(d[2]);
+  h.kappa = f.kappa;
+  h.base =
+      f.kappa * (a.half[0] + a.half[1] + a.half[2] + f.margin) + 10.0f * kUnitRoundoff * d1 + 4.0f * p.t_err + f.margin;
+  return h;
+}
+
+// ---- Lanes ------------------------------------------------------------------------------------
+
+#ifdef TIGHTBVH_WIDE_SSE
+struct F4 {
+  __m128 v;
+};
+inline F4 operator+(F4 x, F4 y) { return {_mm_add_ps(x.v, y.v)}; }
+inline F4 operator-(F4 x, F4 y) { return {_mm_sub_ps(x.v, y.v)}; }
+inline F4 operator*(F4 x, F4 y) { return {_mm_mul_ps(x.v, y.v)}; }
+inline F4 splat4(float x) { return {_mm_set1_ps(x)}; }
+inline F4 load4(const float* p) { return {_mm_load_ps(p)}; }
+inline F4 abs4(F4 x) { return {_mm_andnot_ps(_mm_set1_ps(-0.0f), x.v)}; }
+struct M4 {
+  __m128 v;
+};
+inline M4 operator|(M4 x, M4 y) { return {_mm_or_ps(x.v, y.v)}; }
+inline M4 gt4(F4 x, F4 y) { return {_mm_cmpgt_ps(x.v, y.v)}; }
+inline unsigned bits4(M4 m) { return static_cast<unsigned>(_mm_movemask_ps(m.v)); }
+#else
+// Portable lanes (other architectures, or TIGHTBVH_WIDE_PORTABLE): four floats, each operation
+// lane by lane (compilers vectorize these loops).
+struct F4 {
+  float v[4];
+};
+#define TIGHTBVH_WIDE_LANEWISE(op)                         \
+  inline F4 operator op(F4 x, F4 y) {                      \
+    F4 r;                                                  \
+    for (int l = 0; l < 4; ++l) r.v[l] = x.v[l] op y.v[l]; \
+    return r;                                              \
+  }
+TIGHTBVH_WIDE_LANEWISE(+)
+TIGHTBVH_WIDE_LANEWISE(-)
+TIGHTBVH_WIDE_LANEWISE(*)
+#undef TIGHTBVH_WIDE_LANEWISE
+inline F4 splat4(float x) { return {{x, x, x, x}}; }
+inline F4 load4(const float* p) { return {{p[0], p[1], p[2], p[3]}}; }
+inline F4 abs4(F4 x) {
+  for (float& f : x.v) f = std::abs(f);
+  return x;
+}
+struct M4 {
+  unsigned v;
+};
+inline M4 operator|(M4 x, M4 y) { return {x.v | y.v}; }
+inline M4 gt4(F4 x, F4 y) {
+  unsigned m = 0;
+  for (int l = 0; l < 4; ++l) m |= static_cast<unsigned>(x.v[l] > y.v[l]) << l;
+  return {m};
+}
+inline unsigned bits4(M4 m) { return m.v; }
+#endif
+
+// Lane operations of the generic kernel (wide_kernel.hpp) for F4.
+inline F4 lane_abs(F4 x) { return abs4(x); }
+inline M4 lane_gt(F4 x, F4 y) { return gt4(x, y); }
+inline bool all_lanes(M4 m) { return bits4(m) == 0xFu; }
+
+/// The kernel: A's hoisted box `h` against the four children of B's node `b`. Returns the mask of
+/// lanes kept (bit l: child l may overlap A's box within the margin); empty lanes are never kept.
+template <WideTier kTier = WideTier::full>
+[[nodiscard]] inline unsigned wide_overlap(const WideHoisted& h, const WideNode& b) {
+  WideLanes<F4> l;
+  for (int r = 0; r < 9; ++r) {
+    l.bx[r] = load4(b.axes[r]);
+    l.m[r] = splat4(h.m[r]);
+  }
+  for (int k = 0; k < 3; ++k) {
+    l.cb[k] = load4(b.center[k]);
+    l.eb[k] = load4(b.half[k]);
+    l.tn[k] = splat4(h.tn[k]);
+    l.ea[k] = splat4(h.ea[k]);
+  }
+  l.kappa = splat4(h.kappa);
+  l.base = splat4(h.base);
+  l.center_factor = splat4(16.0f * kUnitRoundoff);
+  return ~bits4(wide_separated<kTier, F4, M4>(l)) & 0xFu;
+}
+
+#ifdef TIGHTBVH_WIDE_AVX2
+/// Two boxes of A against the four children of a node of B each, in eight AVX2 lanes (wide_avx2.cpp):
+/// bits 0-3 are wide_overlap(h0, b0), bits 4-7 wide_overlap(h1, b1), bit for bit (same operations,
+/// no FMA). Only where avx2_bounds_available() (box_bounds4.hpp).
+[[nodiscard]] unsigned wide_overlap2_avx2(const WideHoisted& h0, const WideNode& b0, const WideHoisted& h1,
+                                          const WideNode& b1);
+#endif
+
+/// wide_overlap(h0, b0) | wide_overlap(h1, b1) << 4: eight AVX2 lanes when `avx2`, else two calls.
+[[nodiscard]] inline unsigned wide_overlap2(const WideHoisted& h0, const WideNode& b0, const WideHoisted& h1,
+                                            const WideNode& b1, bool avx2) {
+#ifdef TIGHTBVH_WIDE_AVX2
+  if (avx2) return wide_overlap2_avx2(h0, b0, h1, b1);
+#endif
+  (void)avx2;
+  return wide_overlap(h0, b0) | wide_overlap(h1, b1) << 4;
+}
+
+}  // namespace tightbvh::query_detail

@@ -1,0 +1,300 @@
+// The wide nodes' float box kernel (src/collide/wide_nodes.hpp) is conservative: it never culls
+// two boxes that share a point (random boxes built around a shared point, touching exactly on
+// faces, edges and corners, at scales 1e-3 to 1e4 and offsets up to 1e6), nor any node pair of a
+// real tree that the double test obb_overlap() keeps; and it is not much more conservative than
+// needed (boxes that the double test separates by a small relative gap are culled). Also the
+// wide tree's structure (every triangle once, refs as the descent computes them) and its memory;
+// and the eight-lane AVX2 kernel decides as the four-lane one.
+#include "collide/wide_nodes.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "collide/box_bounds4.hpp"
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "tightbvh/build.hpp"
+#include "tightbvh/error.hpp"
+#include "tightbvh/mesh.hpp"
+#include "tightbvh/obb_overlap.hpp"
+
+namespace tightbvh {
+namespace {
+
+using namespace query_detail;
+
+Mat3 random_rotation(std::mt19937_64& rng) {
+  std::normal_distribution<double> n;
+  return Eigen::Quaterniond(Eigen::Vector4d(n(rng), n(rng), n(rng), n(rng)).normalized()).toRotationMatrix();
+}
+
+// A box of scale `s` with random axes (or `axes`) that contains `p`: p's coordinates in the box
+// are random, or (each with probability 1/2) exactly +-e_i, so that p lies on a face, an edge or
+// a corner.
+Obb box_around(std::mt19937_64& rng, const Vec3& p, double s, const Mat3& axes) {
+  std::uniform_real_distribution<double> size(0.02, 1.0), unit(-1.0, 1.0);
+  std::bernoulli_distribution on_face(0.5);
+  Obb b;
+  b.axes = axes;
+  for (int i = 0; i < 3; ++i) b.half_extents[i] = s * size(rng);
+  if (on_face(rng)) b.half_extents[0] *= 1e-3;  // flat boxes too
+  Vec3 local;
+  for (int i = 0; i < 3; ++i) {
+    const double side = unit(rng) < 0 ? -1.0 : 1.0;
+    local[i] = on_face(rng) ? side * b.half_extents[i] : unit(rng) * b.half_extents[i];
+  }
+  b.center = p - axes * local;
+  return b;
+}
+
+// B's box given in A's (world) frame, expressed in B's mesh frame under `rel` (x_A = R0 x_B + t0).
+Obb to_b_frame(const Obb& world, const Pose& rel) {
+  const Pose inv = rel.inverse();
+  return {inv.apply(world.center), inv.rotation * world.axes, world.half_extents};
+}
+
+// The kernel on A's box `a` (world frame, node ref `ref_a`) against B's box `b` (B's mesh frame,
+// in lane 0 of a node whose ref is `ref_b`; the other lanes hold `others` or stay empty). Returns
+// the kept mask.
+template <WideTier kTier = WideTier::full>
+unsigned kernel(const Obb& a, const Vec3& ref_a, const Obb& b, const Vec3& ref_b, const Pose& rel,
+                const std::vector<Obb>& others = {}, double margin = 0.0) {
+  double eta_a = 0.0, eta_b = 0.0;
+  const WideBox wa = widen_box(a, ref_a, eta_a);
+  WideNode node{};
+  for (int lane = 0; lane < kWideLanes; ++lane) {
+    for (int r = 0; r < 9; ++r) node.axes[r][lane] = r % 4 == 0 ? 1.0f : 0.0f;
+    for (int k = 0; k < 3; ++k) {
+      node.center[k][lane] = 0.0f;
+      node.half[k][lane] = kEmptyHalf;
+    }
+  }
+  const auto put = [&](int lane, const Obb& box) {
+    const WideBox wb = widen_box(box, ref_b, eta_b);
+    for (int r = 0; r < 9; ++r) node.axes[r][lane] = wb.axes[r];
+    for (int k = 0; k < 3; ++k) {
+      node.center[k][lane] = wb.center[k];
+      node.half[k][lane] = wb.half[k];
+    }
+  };
+  put(0, b);
+  for (std::size_t i = 0; i < others.size() && i + 1 < kWideLanes; ++i) put(static_cast<int>(i) + 1, others[i]);
+  const WideFrame f = wide_frame(rel, eta_a, eta_b, margin);
+  return wide_overlap<kTier>(hoist(f, wide_pair(f, ref_a, ref_b), wa), node);
+}
+
+// Random pairs of boxes around a shared point at each scale and offset; returns the number of
+// pairs either tier culled (must be 0).
+TEST(WideNodes, NeverCullsBoxesThatShareAPoint) {
+  std::mt19937_64 rng(38);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::bernoulli_distribution coin(0.5);
+  int pairs = 0, culled = 0;
+  for (const double scale : {1e-3, 1e-1, 1.0, 1e2, 1e4})
+    for (const double offset : {0.0, 1e3, 1e6})
+      for (int n = 0; n < 400; ++n) {
+        const Vec3 p = offset * Vec3(unit(rng), unit(rng), unit(rng)) + scale * Vec3(unit(rng), unit(rng), unit(rng));
+        // A quarter share their axes (exactly touching faces of aligned boxes), a quarter are
+        // axis-aligned, the rest random.
+        const int kind = n % 4;
+        const Mat3 ra = kind == 1 ? Mat3::Identity() : random_rotation(rng);
+        const Mat3 rb = kind == 0 ? ra : kind == 1 ? Mat3::Identity() : random_rotation(rng);
+        const Obb a = box_around(rng, p, scale, ra);
+        const Obb b_world = box_around(rng, p, scale, rb);
+        // B's mesh frame: a random pose far from the origin, or the identity.
+        Pose rel;
+        if (coin(rng)) rel = {random_rotation(rng), offset * Vec3(unit(rng), unit(rng), unit(rng))};
+        const Obb b = to_b_frame(b_world, rel);
+        // Node refs near the boxes (so offsets are of the boxes' scale), or the box centers.
+        const Vec3 ref_a = a.center + (coin(rng) ? Vec3(scale * Vec3(unit(rng), unit(rng), unit(rng))) : Vec3(Vec3::Zero()));
+        const Vec3 ref_b = b.center + (coin(rng) ? Vec3(scale * Vec3(unit(rng), unit(rng), unit(rng))) : Vec3(Vec3::Zero()));
+        ++pairs;
+        const bool full = (kernel(a, ref_a, b, ref_b, rel) & 1u) != 0;
+        const bool faces = (kernel<WideTier::faces>(a, ref_a, b, ref_b, rel) & 1u) != 0;
+        if (!full || !faces) {
+          ++culled;
+          ADD_FAILURE() << "culled a touching pair: scale " << scale << " offset " << offset << " kind " << kind;
+          if (culled > 5) return;
+        }
+      }
+  EXPECT_EQ(culled, 0) << pairs << " pairs";
+}
+
+// Boxes that the double test separates by more than 1e-4 of their scale: the float kernel culls
+// (nearly) all of them. The pairs start touching and B is then moved by up to 1e-2 of the scale,
+// so most gaps are small: a bound a hundred times too loose would keep many of them.
+TEST(WideNodes, CullsBoxesSeparatedByASmallGap) {
+  std::mt19937_64 rng(380);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int separated = 0, culled = 0;
+  for (const double scale : {1e-3, 1.0, 1e4})
+    for (const double offset : {0.0, 1e6})
+      for (int n = 0; n < 800; ++n) {
+        if (offset > 1.0 && scale < 1e-2) continue;  // float's resolution at 1e6 is ~0.06
+        const Vec3 p = offset * Vec3(unit(rng), unit(rng), unit(rng));
+        const Obb a = box_around(rng, p, scale, random_rotation(rng));
+        Obb b_world = box_around(rng, p, scale, random_rotation(rng));
+        b_world.center += 1e-2 * scale * Vec3(unit(rng), unit(rng), unit(rng));
+        if (obb_overlap(a, b_world, 1e-4 * scale)) continue;
+        const Pose rel{random_rotation(rng), offset * Vec3(unit(rng), unit(rng), unit(rng))};
+        const Obb b = to_b_frame(b_world, rel);
+        ++separated;
+        culled += (kernel(a, a.center, b, b.center, rel) & 1u) == 0;
+      }
+  std::printf("[ wide     ] separated by > 1e-4 of the size: %d pairs, %d culled\n", separated, culled);
+  ASSERT_GT(separated, 400);
+  EXPECT_GE(culled, separated * 99 / 100) << culled << " of " << separated;
+}
+
+TEST(WideNodes, EmptyLanesAndOtherLanes) {
+  std::mt19937_64 rng(7);
+  const Obb a{Vec3::Zero(), Mat3::Identity(), Vec3(1, 1, 1)};
+  const Obb touching{Vec3(2, 0, 0), Mat3::Identity(), Vec3(1, 1, 1)};
+  const Obb far{Vec3(5, 0, 0), random_rotation(rng), Vec3(1, 1, 1)};
+  const Obb inside{Vec3(0.5, 0, 0), random_rotation(rng), Vec3(0.1, 0.2, 0.3)};
+  // Lane 0 touching, 1 far, 2 inside, 3 empty.
+  EXPECT_EQ(kernel(a, Vec3::Zero(), touching, Vec3(1, 1, 1), Pose::identity(), {far, inside}), 0b0101u);
+  EXPECT_EQ(kernel<WideTier::faces>(a, Vec3::Zero(), touching, Vec3(1, 1, 1), Pose::identity(), {far, inside}),
+            0b0101u);
+  // The far box is between 5 - 1 - sqrt(3) and 5 - 1 - 1 away from A along x: a margin of 1 culls
+  // it, one of 3.5 keeps it.
+  EXPECT_EQ(kernel(a, Vec3::Zero(), far, Vec3::Zero(), Pose::identity(), {}, 1.0) & 1u, 0u);
+  EXPECT_EQ(kernel(a, Vec3::Zero(), far, Vec3::Zero(), Pose::identity(), {}, 3.5) & 1u, 1u);
+}
+
+TEST(WideNodes, RejectsBadInput) {
+  double eta = 0.0;
+  Obb bad{Vec3(std::nan(""), 0, 0), Mat3::Identity(), Vec3(1, 1, 1)};
+  EXPECT_THROW((void)widen_box(bad, Vec3::Zero(), eta), InputError);
+  Obb sheared{Vec3::Zero(), Mat3::Identity(), Vec3(1, 1, 1)};
+  sheared.axes(0, 1) = 0.1;
+  EXPECT_THROW((void)widen_box(sheared, Vec3::Zero(), eta), InputError);
+  EXPECT_THROW((void)wide_frame(Pose::identity(), 0.0, 0.0, -1.0), InputError);
+}
+
+Mesh shipped_mesh(const char* name) { return load_mesh(std::string(TIGHTBVH_SOURCE_DIR) + "/meshes/" + name); }
+
+// Every triangle in exactly one leaf lane; refs and sources consistent; memory per triangle.
+TEST(WideNodes, TreeStructureAndMemory) {
+  for (const char* name : {"knot1.off", "fandisk.off"}) {
+    const Mesh mesh = shipped_mesh(name);
+    const Tree tree = build(mesh);
+    std::vector<std::uint32_t> sources;
+    const WideTree wide = build_wide(tree, &sources);
+    ASSERT_EQ(sources.size(), 4 * wide.nodes.size());
+    std::vector<int> seen(mesh.triangles.size(), 0);
+    std::size_t internal = 0;
+    for (std::size_t i = 0; i < wide.nodes.size(); ++i)
+      for (int lane = 0; lane < kWideLanes; ++lane) {
+        const WideNode& n = wide.nodes[i];
+        if (is_empty_lane(n, lane)) continue;
+        const Node& src = tree.nodes[sources[4 * i + lane]];
+        if (n.count[lane] > 0) {
+          ASSERT_LT(n.child[lane], 0);
+          EXPECT_EQ(static_cast<std::uint32_t>(~n.child[lane]), src.first);
+          EXPECT_EQ(n.count[lane], src.count);
+          for (std::uint32_t k = 0; k < n.count[lane]; ++k) ++seen[tree.triangle_order[src.first + k]];
+        } else {
+          ASSERT_GT(n.child[lane], 0);
+          ++internal;
+        }
+      }
+    EXPECT_EQ(internal + 1, wide.nodes.size());
+    EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int c) { return c == 1; }));
+    EXPECT_LT(wide.eta, 1e-6);
+    const double bytes = wide_bytes_per_triangle(wide, mesh.triangles.size());
+    std::printf("[ wide     ] %s: %zu triangles, %zu wide nodes of %zu B, %.1f B/triangle, eta %.2g\n", name,
+                mesh.triangles.size(), wide.nodes.size(), sizeof(WideNode), bytes, wide.eta);
+    EXPECT_LE(bytes, 150.0) << name;
+  }
+}
+
+// Real nodes: two trees over shipped meshes in random poses that make them overlap; a descent
+// over wide node pairs tests each box of A against the four children of a node of B with the
+// float kernel, and every lane the double test (obb_overlap of the Tree's boxes, margin 0) keeps
+// must be kept.
+TEST(WideNodes, KeepsEveryRealNodePairTheDoubleTestKeeps) {
+  std::mt19937_64 rng(3800);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::size_t tested = 0, kept_double = 0, kept_float = 0, missed = 0, lanes_differ = 0;
+  const bool avx2 = avx2_bounds_available();
+  struct Item {
+    std::int32_t na;
+    int lane;
+    std::int32_t nb;
+    Vec3 ref_a, ref_b;
+  };
+  for (const double offset : {0.0, 1e5}) {
+    // Both meshes moved far from the origin (in their own frames) for the second round.
+    Mesh ma = shipped_mesh("knot1.off"), mb = shipped_mesh("fandisk.off");
+    const Vec3 shift_a = offset * Vec3(unit(rng), unit(rng), unit(rng)),
+               shift_b = offset * Vec3(unit(rng), unit(rng), unit(rng));
+    for (Vec3& v : ma.vertices) v += shift_a;
+    for (Vec3& v : mb.vertices) v += shift_b;
+    const Tree ta = build(ma), tb = build(mb);
+    std::vector<std::uint32_t> sa, sb;
+    const WideTree wa = build_wide(ta, &sa), wb = build_wide(tb, &sb);
+    const Obb box_a = ta.nodes[0].box.obb(), box_b = tb.nodes[0].box.obb();
+    const double size = std::max(box_a.half_extents.norm(), box_b.half_extents.norm());
+    for (int pose = 0; pose < 3; ++pose) {
+      // B's root center near A's root center.
+      const Mat3 rot = random_rotation(rng);
+      const Pose rel{rot, box_a.center - rot * box_b.center + 0.3 * size * Vec3(unit(rng), unit(rng), unit(rng))};
+      const WideFrame f = wide_frame(rel, wa.eta, wb.eta, 0.0);
+      std::vector<Item> stack;
+      for (int lane = 0; lane < kWideLanes; ++lane)
+        if (!is_empty_lane(wa.nodes[0], lane)) stack.push_back({0, lane, 0, wa.root_ref, wb.root_ref});
+      std::size_t budget = 60000;
+      while (!stack.empty() && budget-- > 0) {
+        const Item it = stack.back();
+        stack.pop_back();
+        const WideNode& na = wa.nodes[it.na];
+        const WideNode& nb = wb.nodes[it.nb];
+        const WideHoisted h = hoist(f, wide_pair(f, it.ref_a, it.ref_b), lane_box(na, it.lane));
+      const unsigned kept = wide_overlap(h, nb);
+      // The eight-lane AVX2 kernel (where the CPU has it) decides each lane alike.
+      const WideNode& other = wb.nodes[(it.nb + 1) % wb.nodes.size()];
+      if (wide_overlap2(h, nb, h, other, avx2) != (kept | wide_overlap(h, other) << 4)) ++lanes_differ;
+        const Obb a_box = ta.nodes[sa[4 * it.na + it.lane]].box.obb();
+        for (int j = 0; j < kWideLanes; ++j) {
+          if (is_empty_lane(nb, j)) {
+            EXPECT_EQ(kept >> j & 1u, 0u);
+            continue;
+          }
+          const Obb b = tb.nodes[sb[4 * it.nb + j]].box.obb();
+          const Obb b_in_a{rel.apply(b.center), rel.rotation * b.axes, b.half_extents};
+          const bool d = obb_overlap(a_box, b_in_a);
+          const bool fl = (kept >> j & 1u) != 0;
+          ++tested;
+          kept_double += d;
+          kept_float += fl;
+          if (d && !fl && ++missed <= 5)
+            ADD_FAILURE() << "pose " << pose << ": a pair the double test keeps was culled";
+          if (!fl) continue;
+          // Descend: B's child j against A's box, and A's children against B's child j.
+          const bool a_internal = na.count[it.lane] == 0, b_internal = nb.count[j] == 0;
+          if (b_internal) stack.push_back({it.na, it.lane, nb.child[j], it.ref_a, child_ref(it.ref_b, nb, j)});
+          if (a_internal && b_internal) {
+            const std::int32_t ca = na.child[it.lane];
+            for (int i = 0; i < kWideLanes; ++i)
+              if (!is_empty_lane(wa.nodes[ca], i))
+                stack.push_back({ca, i, nb.child[j], child_ref(it.ref_a, na, it.lane), child_ref(it.ref_b, nb, j)});
+          }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(missed, 0u);
+  EXPECT_EQ(lanes_differ, 0u) << (avx2 ? "AVX2" : "two four-lane calls");
+  EXPECT_GT(kept_double, 1000u);
+  std::printf("[ wide     ] %zu real box pairs: double keeps %zu, float keeps %zu\n", tested, kept_double, kept_float);
+}
+
+}  // namespace
+}  // namespace tightbvh

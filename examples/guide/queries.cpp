@@ -1,7 +1,8 @@
 // The user guide's queries: poses, first_hit and all_pairs, a safety margin, distance with an
 // upper bound, many poses with one workspace or in one batch, a coherent sequence with a
-// QueryCache, contact geometry, point queries (checked against the brute force) and the
-// penetration of two solids (checked against the vertices' signed distances). Run by the tests
+// QueryCache, contact geometry, point queries (checked against the brute force), the
+// penetration of two solids (checked against the vertices' signed distances) and shapes against a
+// mesh (checked against the brute force). Run by the tests
 // (ctest guide_queries).
 #include <tightbvh/build.hpp>
 #include <tightbvh/collide.hpp>
@@ -13,6 +14,7 @@
 #include <tightbvh/pose_text.hpp>
 #include <tightbvh/query_cache.hpp>
 #include <tightbvh/query_workspace.hpp>
+#include <tightbvh/shape.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -154,5 +156,34 @@ int main() {
     return 1;
   }
   std::printf("point queries: %zu points, %zu inside, the brute force agrees\n", points.size(), inside);
+
+  // Shapes against a mesh, kept exact (not tessellated), with FCL's conventions: a sphere of
+  // radius 0.1, a box of full side lengths 0.2 x 0.1 x 0.3, a capsule of radius 0.05 whose axis
+  // segment is 0.4 long along its local z; each centered at the origin of its pose.
+  const tightbvh::Sphere ball(0.1);
+  const tightbvh::Box crate(0.2, 0.1, 0.3);
+  const tightbvh::Capsule link(0.05, 0.4);
+  tightbvh::Pose shape_pose;
+  shape_pose.translation = tightbvh::Vec3(0.3, 0.0, 0.0);
+  const tightbvh::ShapeQueryResult ball_hits =
+      tightbvh::collide(ball, shape_pose, knot, pose_a, {.mode = tightbvh::QueryMode::all_pairs});
+  tightbvh::Pose above = shape_pose;  // the box above the knot
+  above.translation.z() = 0.5;
+  const tightbvh::ShapeDistanceResult crate_gap = tightbvh::distance(crate, above, knot, pose_a);
+  const tightbvh::ShapeQueryResult link_near = tightbvh::collide(link, shape_pose, knot, pose_a, {.margin = 0.01});
+  // ball_hits.triangles: the knot's triangles the sphere touches (sorted); crate_gap.distance,
+  // .triangle, .point_shape and .point_mesh (world frame): 0 and a common point when touching.
+  std::printf("shapes: the sphere touches %zu triangles, the box is %.4f away, the capsule %s within 0.01",
+              ball_hits.triangles.size(), crate_gap.distance, link_near.hit ? "is" : "is not");
+  // The check: the brute force over every triangle.
+  const tightbvh::ShapeQueryResult ball_brute = tightbvh::collide_brute_force(
+      ball, shape_pose, mesh_a, pose_a, {.mode = tightbvh::QueryMode::all_pairs});
+  if (ball_hits.triangles != ball_brute.triangles ||
+      crate_gap.distance != tightbvh::distance_brute_force(crate, above, mesh_a, pose_a).distance ||
+      link_near.hit != tightbvh::collide_brute_force(link, shape_pose, mesh_a, pose_a, {.margin = 0.01}).hit) {
+    std::printf("\nshapes: the brute force disagrees\n");
+    return 1;
+  }
+  std::printf(", the brute force agrees\n");
   return 0;
 }

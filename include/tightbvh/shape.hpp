@@ -1,0 +1,179 @@
+#pragma once
+/// @file
+/// Primitive shapes (sphere, box, capsule) against a posed triangle mesh: which triangles touch
+/// the shape (collide) and how far apart they are (distance), without tessellating the shape.
+///
+/// Conventions are FCL's: Sphere{radius} centered at the origin of its frame; Box{x, y, z} with
+/// full side lengths, centered, faces normal to the local axes; Capsule{radius, length} along the
+/// local z axis, centered, `length` the length of its axis segment (FCL's lz), so it reaches
+/// length / 2 + radius from the center along z. The shapes are solid: a triangle inside a box
+/// touches it.
+///
+/// Frames: the shape's pose is mapped into the mesh frame once per query, relative_pose(pm, ps)
+/// (collide.hpp), and every triangle test runs there, in the queries and in their brute-force
+/// references alike (so both see the same numbers). The box maps each triangle into its own
+/// frame instead (the inverse of that pose), where it is axis-aligned.
+///
+/// Per triangle (docs/algorithms.md, "Shapes against meshes"):
+///  - Sphere: d = |c - closest_point_on_triangle(c)| (Ericson §5.1.5, point_query.hpp); touching
+///    iff d <= radius; the distance is d - radius otherwise.
+///  - Capsule: d = tri_tri_distance of its axis segment (the degenerate triangle (p, q, q)) and
+///    the triangle (tri_distance.hpp; exactly 0 iff they touch); touching iff d <= radius; the
+///    distance is d - radius otherwise.
+///  - Box: touching decided exactly on the triangle's box-frame coordinates: a corner inside the
+///    closed box, or the triangle touching one of the box's 12 surface triangles (tri_tri_overlap,
+///    exact predicates). The 13-axis separating-axis test of Akenine-Möller (2001, "Fast 3D
+///    triangle-box overlap testing") rejects first, only when an axis separates by more than its
+///    rounding allowance. The distance is the least tri_tri_distance to the 12 surface triangles
+///    (a solid box and a disjoint triangle are closest on the box surface).
+/// So for every shape the distance is exactly 0 iff the triangle touches, and a margin query
+/// reports the triangles at distance <= margin, the same distance distance() reports.
+///
+/// Traversal: the shape's bounding box (bounding_box(), mapped into the mesh frame) against the
+/// tree's node boxes: obb_overlap() to cull (collide), obb_distance_lower_bound() best first
+/// (distance), each with an allowance for rounding, the float boxes' axes and a pose's rotation
+/// that is orthonormal only within kRotationTolerance (scene.hpp). Exact tests at the leaves.
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "tightbvh/collide.hpp"
+#include "tightbvh/distance.hpp"
+#include "tightbvh/mesh.hpp"
+#include "tightbvh/model.hpp"
+#include "tightbvh/obb.hpp"
+#include "tightbvh/pose.hpp"
+#include "tightbvh/tree.hpp"
+
+namespace tightbvh {
+
+/// A solid sphere centered at the origin of its frame (FCL's Sphere).
+struct Sphere {
+  /// The sphere of this radius; InputError unless it is positive and finite.
+  explicit Sphere(double radius);
+  double radius;  ///< > 0, finite.
+};
+
+/// A solid box centered at the origin of its frame, its faces normal to the local axes (FCL's Box).
+struct Box {
+  /// The box of these full side lengths along x, y and z; InputError unless each is positive
+  /// and finite.
+  Box(double x, double y, double z);
+  /// The same, the side lengths as a vector.
+  explicit Box(const Vec3& size);
+  Vec3 size;  ///< Full side lengths along the local x, y, z axes (each > 0, finite).
+};
+
+/// A solid capsule: the points within `radius` of the segment from (0, 0, -length / 2) to
+/// (0, 0, length / 2) of its frame (FCL's Capsule, `length` its lz).
+struct Capsule {
+  /// The capsule of this radius and axis length; InputError unless both are positive and finite.
+  Capsule(double radius, double length);
+  double radius;  ///< > 0, finite.
+  double length;  ///< The axis segment's length (> 0, finite), not counting the caps.
+};
+
+/// The shape's box in its own frame: centered at the origin, identity axes.
+[[nodiscard]] Obb bounding_box(const Sphere& shape);
+/// The shape's box in its own frame: centered at the origin, identity axes, half the side lengths.
+[[nodiscard]] Obb bounding_box(const Box& shape);
+/// The shape's box in its own frame: half extents (radius, radius, length / 2 + radius).
+[[nodiscard]] Obb bounding_box(const Capsule& shape);
+
+/// The answer of collide() of a shape and a mesh.
+struct ShapeQueryResult {
+  /// Some triangle touches the shape (or is within the margin).
+  bool hit = false;
+  /// The indices (into Mesh::triangles) of the triangles found: all_pairs, every one, sorted and
+  /// unique; first_hit, the one found, if any.
+  std::vector<std::uint32_t> triangles;
+  /// box_tests: node boxes tested against the shape's box; triangle_tests: triangles tested.
+  QueryStats stats;
+};
+
+/// The answer of distance() of a shape and a mesh.
+struct ShapeDistanceResult {
+  /// The minimum distance (within the options' error), exactly 0 when the shape touches the mesh;
+  /// options.upper_bound when beyond_upper_bound; +infinity for an empty tree.
+  double distance = std::numeric_limits<double>::infinity();
+  /// The shape and the mesh are at least options.upper_bound apart (then `triangle` and the
+  /// points are not set).
+  bool beyond_upper_bound = false;
+  /// The shape touches the mesh (distance 0); both points are then one point of the triangle that
+  /// lies in the shape.
+  bool intersecting = false;
+  std::uint32_t triangle = 0;        ///< The closest triangle's index (into Mesh::triangles).
+  Vec3 point_shape = Vec3::Zero();  ///< The closest point on the shape, world frame.
+  Vec3 point_mesh = Vec3::Zero();   ///< The closest point on the triangle, world frame.
+  /// node_pairs: node boxes bounded or box-tested; triangle_pairs: triangles measured.
+  DistanceStats stats;
+};
+
+/// The triangles of `mesh` (at pose `pm`, mesh frame to world) that touch the sphere at pose `ps`
+/// (shape frame to world), as options.mode says; with options.margin, those within it.
+/// `tree` built over `mesh`. InputError for a mismatched tree, a pose that is not a finite proper
+/// rotation (kRotationTolerance), an invalid shape, a negative, NaN or infinite margin, and for
+/// options.solid or options.contacts (not available for shapes). An empty tree never hits.
+[[nodiscard]] ShapeQueryResult collide(const Sphere& shape, const Pose& ps, const Tree& tree, const Mesh& mesh,
+                                       const Pose& pm, const QueryOptions& options = {});
+/// The same for a box.
+[[nodiscard]] ShapeQueryResult collide(const Box& shape, const Pose& ps, const Tree& tree, const Mesh& mesh,
+                                       const Pose& pm, const QueryOptions& options = {});
+/// The same for a capsule.
+[[nodiscard]] ShapeQueryResult collide(const Capsule& shape, const Pose& ps, const Tree& tree, const Mesh& mesh,
+                                       const Pose& pm, const QueryOptions& options = {});
+/// collide() of a sphere and a model's tree and mesh.
+[[nodiscard]] ShapeQueryResult collide(const Sphere& shape, const Pose& ps, const Model& model, const Pose& pm,
+                                       const QueryOptions& options = {});
+/// collide() of a box and a model's tree and mesh.
+[[nodiscard]] ShapeQueryResult collide(const Box& shape, const Pose& ps, const Model& model, const Pose& pm,
+                                       const QueryOptions& options = {});
+/// collide() of a capsule and a model's tree and mesh.
+[[nodiscard]] ShapeQueryResult collide(const Capsule& shape, const Pose& ps, const Model& model, const Pose& pm,
+                                       const QueryOptions& options = {});
+
+/// The minimum distance between the sphere at pose `ps` and `mesh` at pose `pm`, with the closest
+/// triangle and points (world frame); 0 when they touch. Of the options, absolute_error,
+/// relative_error and upper_bound are used as for meshes (distance.hpp); InputError for negative
+/// or NaN ones, for solid or signed_distance (not available for shapes), and as collide().
+[[nodiscard]] ShapeDistanceResult distance(const Sphere& shape, const Pose& ps, const Tree& tree, const Mesh& mesh,
+                                           const Pose& pm, const DistanceOptions& options = {});
+/// The same for a box.
+[[nodiscard]] ShapeDistanceResult distance(const Box& shape, const Pose& ps, const Tree& tree, const Mesh& mesh,
+                                           const Pose& pm, const DistanceOptions& options = {});
+/// The same for a capsule.
+[[nodiscard]] ShapeDistanceResult distance(const Capsule& shape, const Pose& ps, const Tree& tree, const Mesh& mesh,
+                                           const Pose& pm, const DistanceOptions& options = {});
+/// distance() of a sphere and a model's tree and mesh.
+[[nodiscard]] ShapeDistanceResult distance(const Sphere& shape, const Pose& ps, const Model& model, const Pose& pm,
+                                           const DistanceOptions& options = {});
+/// distance() of a box and a model's tree and mesh.
+[[nodiscard]] ShapeDistanceResult distance(const Box& shape, const Pose& ps, const Model& model, const Pose& pm,
+                                           const DistanceOptions& options = {});
+/// distance() of a capsule and a model's tree and mesh.
+[[nodiscard]] ShapeDistanceResult distance(const Capsule& shape, const Pose& ps, const Model& model, const Pose& pm,
+                                           const DistanceOptions& options = {});
+
+/// Reference: every triangle in index order, the same per-triangle test and frames as collide();
+/// first_hit stops at the first touching triangle. stats.box_tests == 0.
+[[nodiscard]] ShapeQueryResult collide_brute_force(const Sphere& shape, const Pose& ps, const Mesh& mesh,
+                                                   const Pose& pm, const QueryOptions& options = {});
+/// The same for a box.
+[[nodiscard]] ShapeQueryResult collide_brute_force(const Box& shape, const Pose& ps, const Mesh& mesh,
+                                                   const Pose& pm, const QueryOptions& options = {});
+/// The same for a capsule.
+[[nodiscard]] ShapeQueryResult collide_brute_force(const Capsule& shape, const Pose& ps, const Mesh& mesh,
+                                                   const Pose& pm, const QueryOptions& options = {});
+
+/// Reference: every triangle, the same per-triangle distance and frames as distance(); the first
+/// triangle (in index order) at the minimum. Exact: the error options and upper_bound are not used.
+[[nodiscard]] ShapeDistanceResult distance_brute_force(const Sphere& shape, const Pose& ps, const Mesh& mesh,
+                                                       const Pose& pm, const DistanceOptions& options = {});
+/// The same for a box.
+[[nodiscard]] ShapeDistanceResult distance_brute_force(const Box& shape, const Pose& ps, const Mesh& mesh,
+                                                       const Pose& pm, const DistanceOptions& options = {});
+/// The same for a capsule.
+[[nodiscard]] ShapeDistanceResult distance_brute_force(const Capsule& shape, const Pose& ps, const Mesh& mesh,
+                                                       const Pose& pm, const DistanceOptions& options = {});
+
+}  // namespace tightbvh

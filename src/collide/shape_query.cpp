@@ -1,0 +1,514 @@
+// Primitive shapes against a posed mesh: per-triangle tests (Ericson §5.1.5 for the sphere, the
+// segment–triangle distance for the capsule, Akenine-Möller 2001's separating axes then exact
+// predicates for the box), a culling descent (collide) and a best-first bound-and-prune descent
+// (distance) over the mesh's tree. See include/tightbvh/shape.hpp.
+#include "tightbvh/shape.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "query_common.hpp"
+#include "tightbvh/compact_box.hpp"
+#include "tightbvh/error.hpp"
+#include "tightbvh/obb_distance.hpp"
+#include "tightbvh/obb_overlap.hpp"
+#include "tightbvh/point_query.hpp"
+#include "tightbvh/scene.hpp"
+#include "tightbvh/tri_distance.hpp"
+#include "tightbvh/tri_tri.hpp"
+
+namespace tightbvh {
+namespace {
+
+using query_detail::map_point;
+
+// The relative allowance of the culling box for a shape pose whose rotation is orthonormal only
+// within kRotationTolerance (twice, composed with the mesh pose): the box with those axes is
+// within about 2e-6 times the sum of its half extents of the box with orthonormalised axes, which
+// contains the shape. 1e-5 leaves a safety factor of 5.
+constexpr double kShapeSkew = 1e-5;
+
+// A separating axis of the box test must separate by more than this times |axis|_1 times the
+// coordinates' scale: far above the rounding of the projections (about 3e-16 of that), so an
+// axis that separates the computed projections also separates the exact ones.
+constexpr double kSeparationSlack = 1e-10;
+
+[[nodiscard]] std::string number(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+void require_size(const char* who, const char* field, double value) {
+  if (!(value > 0.0) || !std::isfinite(value))
+    throw InputError(std::string(who) + ": " + field + " must be positive and finite, got " + number(value));
+}
+
+// One triangle measured against a shape, mesh frame.
+struct Measure {
+  double distance = 0.0;        // >= 0; exactly 0 iff touching
+  Vec3 point_shape = Vec3::Zero();  // on the shape
+  Vec3 point_mesh = Vec3::Zero();   // on the triangle
+};
+
+// The answer for a closest point `q` of a triangle at distance `d` from a point `s` of the shape's
+// core (the sphere's center, a point of the capsule's axis) with radius r.
+[[nodiscard]] Measure rounded_measure(const Vec3& s, const Vec3& q, double d, double r) {
+  if (d <= r) return {0.0, q, q};  // q is on the triangle and inside the shape
+  return {d - r, s + (q - s) * (r / d), q};
+}
+
+// A sphere in the mesh frame.
+struct PlacedSphere {
+  Vec3 center;
+  double radius;
+  Obb box;  // culling box, mesh frame
+
+  PlacedSphere(const Sphere& s, const Pose& rel)
+      : center(rel.translation), radius(s.radius), box{rel.translation, Mat3::Identity(), Vec3::Constant(s.radius)} {}
+
+  [[nodiscard]] Measure measure(const Vec3& a, const Vec3& b, const Vec3& c) const {
+    const TrianglePoint p = closest_point_on_triangle(center, a, b, c);
+    return rounded_measure(center, p.point, p.distance, radius);
+  }
+  // measure(a, b, c).distance <= margin, with the same arithmetic.
+  [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
+    const double d = closest_point_on_triangle(center, a, b, c).distance;
+    return d <= radius || d - radius <= margin;
+  }
+};
+
+// A capsule in the mesh frame: its axis segment pq.
+struct PlacedCapsule {
+  Vec3 p, q;
+  double radius;
+  Obb box;
+
+  PlacedCapsule(const Capsule& s, const Pose& rel)
+      : p(rel.apply(Vec3(0.0, 0.0, -0.5 * s.length))),
+        q(rel.apply(Vec3(0.0, 0.0, 0.5 * s.length))),
+        radius(s.radius),
+        box{rel.translation, rel.rotation, Vec3(s.radius, s.radius, 0.5 * s.length + s.radius)} {}
+
+  [[nodiscard]] Measure measure(const Vec3& a, const Vec3& b, const Vec3& c) const {
+    const TriangleDistance t = tri_tri_distance(p, q, q, a, b, c);
+    return rounded_measure(t.point_p, t.point_q, t.distance, radius);
+  }
+  [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
+    const double d = tri_tri_distance(p, q, q, a, b, c).distance;
+    return d <= radius || d - radius <= margin;
+  }
+};
+
+// A box in the mesh frame; triangles are mapped into its own frame (`to_box`), where it is
+// [-h, h] and its surface is 12 triangles.
+struct PlacedBox {
+  Pose to_box;  // mesh frame to box frame: the inverse of the shape's relative pose
+  Pose to_mesh;
+  Vec3 h;
+  std::array<std::array<Vec3, 3>, 12> surface;
+  Obb box;
+
+  PlacedBox(const Box& s, const Pose& rel)
+      : to_box(rel.inverse()), to_mesh(rel), h(0.5 * s.size), box{rel.translation, rel.rotation, 0.5 * s.size} {
+    int n = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int i = (k + 1) % 3, j = (k + 2) % 3;
+      for (const double side : {-1.0, 1.0}) {
+        // The face x_k = side h_k: corners (-,-), (+,-), (+,+), (-,+) in (x_i, x_j).
+        std::array<Vec3, 4> q;
+        const double si[4] = {-1.0, 1.0, 1.0, -1.0}, sj[4] = {-1.0, -1.0, 1.0, 1.0};
+        for (int m = 0; m < 4; ++m) {
+          q[m][k] = side * h[k];
+          q[m][i] = si[m] * h[i];
+          q[m][j] = sj[m] * h[j];
+        }
+        surface[n++] = {q[0], q[1], q[2]};
+        surface[n++] = {q[0], q[2], q[3]};
+      }
+    }
+  }
+
+  [[nodiscard]] std::array<Vec3, 3> mapped(const Vec3& a, const Vec3& b, const Vec3& c) const {
+    return {map_point(to_box, a), map_point(to_box, b), map_point(to_box, c)};
+  }
+
+  // Akenine-Möller (2001), "Fast 3D triangle-box overlap testing": the box and the triangle are
+  // disjoint iff one of 13 axes separates them: the box's 3 face normals, the triangle's normal
+  // and the 9 cross products of a box edge and a triangle edge. Here only a reject: true when an
+  // axis separates them by more than `margin` plus the rounding allowance (kSeparationSlack), so
+  // true means exactly disjoint beyond the margin (any vector that separates is a proof, however
+  // rounded); a false leaves the decision to the exact test.
+  [[nodiscard]] bool separated(const std::array<Vec3, 3>& v, double margin) const {
+    const double scale = std::max({v[0].cwiseAbs().maxCoeff(), v[1].cwiseAbs().maxCoeff(), v[2].cwiseAbs().maxCoeff(),
+                                   h.maxCoeff()}) + margin;
+    const auto apart = [&](const Vec3& axis) {
+      const double p0 = axis.dot(v[0]), p1 = axis.dot(v[1]), p2 = axis.dot(v[2]);
+      const double lo = std::min({p0, p1, p2}), hi = std::max({p0, p1, p2});
+      const Vec3 a = axis.cwiseAbs();
+      const double reach = h.dot(a) + (margin > 0.0 ? margin * axis.norm() : 0.0) + kSeparationSlack * a.sum() * scale;
+      return lo > reach || hi < -reach;
+    };
+    for (int k = 0; k < 3; ++k)
+      if (apart(Vec3::Unit(k))) return true;
+    const Vec3 e[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
+    if (apart(e[0].cross(-e[2]))) return true;
+    for (const Vec3& ej : e) {
+      // ej x (1,0,0), ej x (0,1,0), ej x (0,0,1)
+      if (apart(Vec3(0.0, ej.z(), -ej.y())) || apart(Vec3(-ej.z(), 0.0, ej.x())) || apart(Vec3(ej.y(), -ej.x(), 0.0)))
+        return true;
+    }
+    return false;
+  }
+
+  // Exact on the box-frame coordinates: a corner inside the closed box, or the triangle touching
+  // the box surface (a triangle that touches the solid box without a corner in it crosses its
+  // surface). Returns the index of the corner (0..2) or the surface triangle (3..14) found, -1
+  // when they do not touch.
+  [[nodiscard]] int touching(const std::array<Vec3, 3>& v) const {
+    for (int i = 0; i < 3; ++i)
+      if ((v[i].cwiseAbs().array() <= h.array()).all()) return i;
+    for (int s = 0; s < 12; ++s)
+      if (tri_tri_overlap(surface[s][0], surface[s][1], surface[s][2], v[0], v[1], v[2])) return 3 + s;
+    return -1;
+  }
+
+  [[nodiscard]] Measure measure(const Vec3& a, const Vec3& b, const Vec3& c) const {
+    const std::array<Vec3, 3> v = mapped(a, b, c);
+    const int touch = separated(v, 0.0) ? -1 : touching(v);
+    if (touch >= 0) {
+      Vec3 point = touch < 3 ? v[touch] : tri_tri_distance(surface[touch - 3], v).point_q;
+      point = to_mesh.apply(point);
+      return {0.0, point, point};
+    }
+    TriangleDistance best = tri_tri_distance(surface[0], v);
+    for (int s = 1; s < 12; ++s) {
+      const TriangleDistance d = tri_tri_distance(surface[s], v);
+      if (d.distance < best.distance) best = d;
+    }
+    return {best.distance, to_mesh.apply(best.point_p), to_mesh.apply(best.point_q)};
+  }
+  [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
+    const std::array<Vec3, 3> v = mapped(a, b, c);
+    if (separated(v, margin)) return false;
+    if (touching(v) >= 0) return true;
+    if (margin == 0.0) return false;
+    for (const auto& s : surface)
+      if (tri_tri_within(s[0], s[1], s[2], v[0], v[1], v[2], margin)) return true;
+    return false;
+  }
+};
+
+template <class S>
+struct Placed;
+template <>
+struct Placed<Sphere> {
+  using type = PlacedSphere;
+};
+template <>
+struct Placed<Capsule> {
+  using type = PlacedCapsule;
+};
+template <>
+struct Placed<Box> {
+  using type = PlacedBox;
+};
+
+void check_shape(const char* who, const Sphere& s) { require_size(who, "sphere radius", s.radius); }
+void check_shape(const char* who, const Capsule& s) {
+  require_size(who, "capsule radius", s.radius);
+  require_size(who, "capsule length", s.length);
+}
+void check_shape(const char* who, const Box& s) {
+  require_size(who, "box size x", s.size.x());
+  require_size(who, "box size y", s.size.y());
+  require_size(who, "box size z", s.size.z());
+}
+
+template <class S>
+[[nodiscard]] typename Placed<S>::type place(const char* who, const S& shape, const Pose& ps, const Pose& pm) {
+  check_shape(who, shape);
+  require_valid_pose(ps, who, "the shape pose");
+  require_valid_pose(pm, who, "the mesh pose");
+  return typename Placed<S>::type(shape, relative_pose(pm, ps));
+}
+
+void check_options(const char* who, const QueryOptions& options) {
+  if (!(options.margin >= 0.0) || !std::isfinite(options.margin))
+    throw InputError(std::string(who) + ": margin must be finite and >= 0, got " + number(options.margin));
+  if (options.solid) throw InputError(std::string(who) + ": the solid option is not available for shapes");
+  if (options.contacts) throw InputError(std::string(who) + ": the contacts option is not available for shapes");
+}
+
+void check_options(const char* who, const DistanceOptions& options) {
+  if (!(options.absolute_error >= 0.0) || !std::isfinite(options.absolute_error))
+    throw InputError(std::string(who) + ": absolute_error must be finite and >= 0, got " +
+                     number(options.absolute_error));
+  if (!(options.relative_error >= 0.0) || !std::isfinite(options.relative_error))
+    throw InputError(std::string(who) + ": relative_error must be finite and >= 0, got " +
+                     number(options.relative_error));
+  if (!(options.upper_bound >= 0.0))
+    throw InputError(std::string(who) + ": upper_bound must be >= 0 (or infinity), got " + number(options.upper_bound));
+  if (options.solid || options.signed_distance)
+    throw InputError(std::string(who) + ": the solid and signed_distance options are not available for shapes");
+}
+
+void check_tree(const char* who, const Tree& tree, const Mesh& mesh) {
+  if (tree.triangle_order.size() != mesh.triangles.size())
+    throw InputError(std::string(who) + ": the tree was built over " + std::to_string(tree.triangle_order.size()) +
+                     " triangles but the mesh has " + std::to_string(mesh.triangles.size()));
+}
+
+// The node box tests' allowance (as collide's box_allowance, collide.hpp): kBoxMargin for the
+// rounding of the transform, kCompactBoxSlack for the float boxes' axes, kShapeSkew for the
+// shape pose's rotation.
+[[nodiscard]] double shape_allowance(const Tree& tree, const Obb& box) {
+  const CompactBox& root = tree.nodes[0].box;
+  return kBoxMargin * (query_detail::box_scale(root) + box.center.cwiseAbs().maxCoeff() + box.half_extents.maxCoeff()) +
+         kCompactBoxSlack * (root.half_extents_d().maxCoeff() + box.half_extents.maxCoeff()) +
+         kShapeSkew * box.half_extents.sum();
+}
+
+// The shape's box in node box `node`'s frame, obb_overlap()'s frame.
+[[nodiscard]] query_detail::BoxFrame frame_of(const CompactBox& node, const Obb& box) {
+  return query_detail::in_box_frame(node, box.axes, box.center);
+}
+
+template <class P>
+[[nodiscard]] ShapeQueryResult collide_tree(const P& placed, const Tree& tree, const Mesh& mesh,
+                                            const QueryOptions& options) {
+  ShapeQueryResult result;
+  if (tree.nodes.empty()) return result;
+  const double allowance = shape_allowance(tree, placed.box) + options.margin;
+  const bool all = options.mode == QueryMode::all_pairs;
+  std::vector<std::uint32_t> stack{0};
+  while (!stack.empty()) {
+    const Node& node = tree.nodes[stack.back()];
+    stack.pop_back();
+    ++result.stats.box_tests;
+    const query_detail::BoxFrame f = frame_of(node.box, placed.box);
+    if (!obb_overlap(f.c, f.d, node.box.half_extents_d(), placed.box.half_extents, allowance)) continue;
+    if (!node.is_leaf()) {
+      stack.push_back(node.first + 1);
+      stack.push_back(node.first);
+      continue;
+    }
+    for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+      const std::uint32_t t = tree.triangle_order[k];
+      const auto [a, b, c] = mesh.corners(t);
+      ++result.stats.triangle_tests;
+      if (!placed.within(a, b, c, options.margin)) continue;
+      result.hit = true;
+      result.triangles.push_back(t);
+      if (!all) return result;
+    }
+  }
+  std::sort(result.triangles.begin(), result.triangles.end());
+  return result;
+}
+
+template <class P>
+[[nodiscard]] ShapeQueryResult collide_all(const P& placed, const Mesh& mesh, const QueryOptions& options) {
+  ShapeQueryResult result;
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto [a, b, c] = mesh.corners(t);
+    ++result.stats.triangle_tests;
+    if (!placed.within(a, b, c, options.margin)) continue;
+    result.hit = true;
+    result.triangles.push_back(t);
+    if (options.mode == QueryMode::first_hit) break;
+  }
+  return result;
+}
+
+// The best triangle so far, mesh frame.
+struct Best {
+  bool found = false;
+  std::uint32_t triangle = 0;
+  Measure at;
+};
+
+[[nodiscard]] ShapeDistanceResult to_result(const Best& best, const Pose& pm, double upper_bound,
+                                            const DistanceStats& stats) {
+  ShapeDistanceResult r;
+  r.stats = stats;
+  if (!best.found) {
+    r.distance = upper_bound;
+    r.beyond_upper_bound = true;
+    return r;
+  }
+  r.distance = best.at.distance;
+  r.intersecting = best.at.distance == 0.0;
+  r.triangle = best.triangle;
+  r.point_shape = pm.apply(best.at.point_shape);
+  r.point_mesh = pm.apply(best.at.point_mesh);
+  return r;
+}
+
+// Best first (the node of least bound next): the bound is obb_distance_lower_bound() of the node
+// box and the shape's box, shrunk for the float axes and less the allowance (as distance.cpp), so
+// it never exceeds the distance from the shape to the node's triangles. A node is skipped when
+// its bound is at least the upper bound, or when the best so far is within the allowed error of
+// it; the search ends at a touching triangle.
+template <class P>
+[[nodiscard]] ShapeDistanceResult distance_tree(const P& placed, const Tree& tree, const Mesh& mesh, const Pose& pm,
+                                                const DistanceOptions& options) {
+  Best best;
+  DistanceStats stats;
+  if (tree.nodes.empty()) {
+    ShapeDistanceResult r;
+    return r;
+  }
+  if (!(options.upper_bound > 0.0)) return to_result(best, pm, options.upper_bound, stats);
+  const double allowance = shape_allowance(tree, placed.box);
+  const auto bound = [&](std::uint32_t n) {
+    ++stats.node_pairs;
+    const CompactBox& box = tree.nodes[n].box;
+    const query_detail::BoxFrame f = frame_of(box, placed.box);
+    const double raw = obb_distance_lower_bound(f.c, f.d, box.half_extents_d(), placed.box.half_extents);
+    return std::max(0.0, raw * (1.0 - kCompactBoxSlack) - allowance);
+  };
+  const auto skip = [&](double b) {
+    if (b >= options.upper_bound) return true;
+    return best.found && best.at.distance <= b * (1.0 + options.relative_error) + options.absolute_error;
+  };
+  using Pending = std::pair<double, std::uint32_t>;
+  const auto later = [](const Pending& x, const Pending& y) { return x.first > y.first; };
+  std::vector<Pending> heap{{bound(0), 0}};
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), later);
+    const Pending top = heap.back();
+    heap.pop_back();
+    if (skip(top.first)) break;  // the least bound left: every other node is skipped too
+    const Node& node = tree.nodes[top.second];
+    if (!node.is_leaf()) {
+      for (const std::uint32_t child : {node.first, node.first + 1}) {
+        const double b = bound(child);
+        if (skip(b)) continue;
+        heap.emplace_back(b, child);
+        std::push_heap(heap.begin(), heap.end(), later);
+      }
+      continue;
+    }
+    for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+      const std::uint32_t t = tree.triangle_order[k];
+      const auto [a, b, c] = mesh.corners(t);
+      ++stats.triangle_pairs;
+      const Measure m = placed.measure(a, b, c);
+      if (best.found ? m.distance < best.at.distance : m.distance < options.upper_bound) best = {true, t, m};
+    }
+    if (best.found && best.at.distance == 0.0) break;  // touching: nothing is closer
+  }
+  return to_result(best, pm, options.upper_bound, stats);
+}
+
+template <class P>
+[[nodiscard]] ShapeDistanceResult distance_all(const P& placed, const Mesh& mesh, const Pose& pm) {
+  Best best;
+  DistanceStats stats;
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto [a, b, c] = mesh.corners(t);
+    ++stats.triangle_pairs;
+    const Measure m = placed.measure(a, b, c);
+    if (!best.found || m.distance < best.at.distance) best = {true, t, m};
+  }
+  if (!best.found) return {};
+  return to_result(best, pm, 0.0, stats);
+}
+
+template <class S>
+ShapeQueryResult collide_impl(const S& shape, const Pose& ps, const Tree& tree, const Mesh& mesh, const Pose& pm,
+                              const QueryOptions& options) {
+  constexpr const char* who = "collide";
+  check_options(who, options);
+  check_tree(who, tree, mesh);
+  return collide_tree(place(who, shape, ps, pm), tree, mesh, options);
+}
+
+template <class S>
+ShapeDistanceResult distance_impl(const S& shape, const Pose& ps, const Tree& tree, const Mesh& mesh, const Pose& pm,
+                                  const DistanceOptions& options) {
+  constexpr const char* who = "distance";
+  check_options(who, options);
+  check_tree(who, tree, mesh);
+  return distance_tree(place(who, shape, ps, pm), tree, mesh, pm, options);
+}
+
+template <class S>
+ShapeQueryResult collide_brute_impl(const S& shape, const Pose& ps, const Mesh& mesh, const Pose& pm,
+                                    const QueryOptions& options) {
+  constexpr const char* who = "collide_brute_force";
+  check_options(who, options);
+  return collide_all(place(who, shape, ps, pm), mesh, options);
+}
+
+template <class S>
+ShapeDistanceResult distance_brute_impl(const S& shape, const Pose& ps, const Mesh& mesh, const Pose& pm,
+                                        const DistanceOptions& options) {
+  constexpr const char* who = "distance_brute_force";
+  check_options(who, options);
+  return distance_all(place(who, shape, ps, pm), mesh, pm);
+}
+
+}  // namespace
+
+Sphere::Sphere(double r) : radius(r) { require_size("Sphere", "radius", r); }
+
+Box::Box(double x, double y, double z) : Box(Vec3(x, y, z)) {}
+
+Box::Box(const Vec3& s) : size(s) {
+  require_size("Box", "size x", s.x());
+  require_size("Box", "size y", s.y());
+  require_size("Box", "size z", s.z());
+}
+
+Capsule::Capsule(double r, double l) : radius(r), length(l) {
+  require_size("Capsule", "radius", r);
+  require_size("Capsule", "length", l);
+}
+
+Obb bounding_box(const Sphere& shape) { return {Vec3::Zero(), Mat3::Identity(), Vec3::Constant(shape.radius)}; }
+Obb bounding_box(const Box& shape) { return {Vec3::Zero(), Mat3::Identity(), 0.5 * shape.size}; }
+Obb bounding_box(const Capsule& shape) {
+  return {Vec3::Zero(), Mat3::Identity(), Vec3(shape.radius, shape.radius, 0.5 * shape.length + shape.radius)};
+}
+
+// The overloads: one template per query, instantiated for each shape.
+#define TIGHTBVH_SHAPE_QUERIES(S)                                                                                   \
+  ShapeQueryResult collide(const S& shape, const Pose& ps, const Tree& tree, const Mesh& mesh, const Pose& pm,     \
+                           const QueryOptions& options) {                                                          \
+    return collide_impl(shape, ps, tree, mesh, pm, options);                                                       \
+  }                                                                                                                \
+  ShapeQueryResult collide(const S& shape, const Pose& ps, const Model& model, const Pose& pm,                     \
+                           const QueryOptions& options) {                                                          \
+    return collide_impl(shape, ps, model.tree(), model.mesh(), pm, options);                                       \
+  }                                                                                                                \
+  ShapeDistanceResult distance(const S& shape, const Pose& ps, const Tree& tree, const Mesh& mesh, const Pose& pm, \
+                               const DistanceOptions& options) {                                                   \
+    return distance_impl(shape, ps, tree, mesh, pm, options);                                                      \
+  }                                                                                                                \
+  ShapeDistanceResult distance(const S& shape, const Pose& ps, const Model& model, const Pose& pm,                 \
+                               const DistanceOptions& options) {                                                   \
+    return distance_impl(shape, ps, model.tree(), model.mesh(), pm, options);                                      \
+  }                                                                                                                \
+  ShapeQueryResult collide_brute_force(const S& shape, const Pose& ps, const Mesh& mesh, const Pose& pm,           \
+                                       const QueryOptions& options) {                                              \
+    return collide_brute_impl(shape, ps, mesh, pm, options);                                                       \
+  }                                                                                                                \
+  ShapeDistanceResult distance_brute_force(const S& shape, const Pose& ps, const Mesh& mesh, const Pose& pm,       \
+                                           const DistanceOptions& options) {                                       \
+    return distance_brute_impl(shape, ps, mesh, pm, options);                                                      \
+  }
+
+TIGHTBVH_SHAPE_QUERIES(Sphere)
+TIGHTBVH_SHAPE_QUERIES(Box)
+TIGHTBVH_SHAPE_QUERIES(Capsule)
+
+#undef TIGHTBVH_SHAPE_QUERIES
+
+}  // namespace tightbvh

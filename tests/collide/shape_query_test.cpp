@@ -1,0 +1,274 @@
+#include "tightbvh/shape.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "query_fixtures.hpp"
+#include "tightbvh/build.hpp"
+#include "tightbvh/error.hpp"
+#include "tightbvh/model.hpp"
+
+namespace tightbvh {
+namespace {
+
+namespace qt = query_test;
+
+// The test meshes: a decimated shipped mesh, a random soup with degenerate triangles (segments and
+// points), a unit cube.
+std::vector<Mesh> test_meshes() {
+  return {qt::subset(qt::shipped("meshes/elephant.off"), 8), qt::random_soup(150, 41), qt::cube()};
+}
+
+// Shape poses around the mesh: the shape's center at `gap` times the mesh's bounding radius from
+// its center (inside, near the surface, apart), random rotation.
+std::vector<Pose> shape_poses(const Mesh& mesh, std::uint64_t seed, int count) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n;
+  const qt::Sphere s = qt::bounding_sphere(mesh);
+  const double gaps[] = {0.0, 0.3, 0.6, 0.8, 0.95, 1.1, 1.4};
+  std::vector<Pose> poses;
+  for (int i = 0; i < count; ++i) {
+    const Vec3 dir = Vec3(n(rng), n(rng), n(rng)).normalized();
+    poses.push_back({qt::random_rotation(rng), s.center + gaps[i % 7] * s.radius * dir});
+  }
+  return poses;
+}
+
+bool near_relative(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max({1.0, std::abs(a), std::abs(b)}); }
+
+// What the random poses covered, so that the comparisons are known to include each case.
+struct Coverage {
+  int touching = 0, within_margin_only = 0, apart = 0;
+  std::uint64_t triangles_measured = 0, brute_measured = 0;
+};
+
+// Every query of `shape` at `ps` against the mesh (posed by pm) agrees with brute force.
+template <class S>
+void expect_matches_brute_force(Coverage& coverage, const S& shape, const Pose& ps, const Tree& tree, const Mesh& mesh, const Pose& pm,
+                                double margin, double margin_factor, const std::string& where) {
+  SCOPED_TRACE(where);
+  const QueryOptions all{.mode = QueryMode::all_pairs};
+  const ShapeQueryResult hits = collide(shape, ps, tree, mesh, pm, all);
+  const ShapeQueryResult brute = collide_brute_force(shape, ps, mesh, pm, all);
+  EXPECT_EQ(hits.triangles, brute.triangles);
+  EXPECT_EQ(hits.hit, brute.hit);
+  const ShapeQueryResult first = collide(shape, ps, tree, mesh, pm);
+  EXPECT_EQ(first.hit, brute.hit);
+  if (first.hit) {
+    ASSERT_EQ(first.triangles.size(), 1u);
+    EXPECT_TRUE(std::binary_search(brute.triangles.begin(), brute.triangles.end(), first.triangles[0]));
+  }
+  const ShapeDistanceResult d = distance(shape, ps, tree, mesh, pm);
+  const ShapeDistanceResult bd = distance_brute_force(shape, ps, mesh, pm);
+  // Apart: a margin of half, exactly, or 1.5 times the distance (the middle one on the boundary).
+  if (bd.distance > 0.0) margin = bd.distance * margin_factor;
+  const QueryOptions within{.mode = QueryMode::all_pairs, .margin = margin};
+  EXPECT_EQ(collide(shape, ps, tree, mesh, pm, within).triangles,
+            collide_brute_force(shape, ps, mesh, pm, within).triangles);
+  EXPECT_TRUE(near_relative(d.distance, bd.distance)) << d.distance << " vs " << bd.distance;
+  EXPECT_EQ(d.intersecting, brute.hit);
+  EXPECT_EQ(d.distance == 0.0, brute.hit);
+  EXPECT_FALSE(d.beyond_upper_bound);
+  // The reported triangle is at that distance, and the points realise it.
+  EXPECT_NEAR((d.point_shape - d.point_mesh).norm(), d.distance, 1e-9 * (1.0 + d.distance));
+  // Margin semantics: a triangle is within the margin iff its distance is.
+  const bool any_within = !collide_brute_force(shape, ps, mesh, pm, within).triangles.empty();
+  EXPECT_EQ(any_within, bd.distance <= margin);
+  coverage.touching += brute.hit ? 1 : 0;
+  coverage.within_margin_only += !brute.hit && any_within ? 1 : 0;
+  coverage.apart += any_within ? 0 : 1;
+  coverage.triangles_measured += d.stats.triangle_pairs;
+  coverage.brute_measured += bd.stats.triangle_pairs;
+  // upper_bound: below the distance, the query says so; above, the same answer.
+  if (d.distance > 0.0) {
+    const ShapeDistanceResult cut = distance(shape, ps, tree, mesh, pm, {.upper_bound = 0.5 * d.distance});
+    EXPECT_TRUE(cut.beyond_upper_bound);
+    EXPECT_EQ(cut.distance, 0.5 * d.distance);
+    const ShapeDistanceResult rough = distance(shape, ps, tree, mesh, pm, {.relative_error = 0.1});
+    EXPECT_GE(rough.distance, bd.distance);
+    EXPECT_LE(rough.distance, 1.1 * bd.distance * (1.0 + 1e-12));
+  }
+}
+
+template <class MakeShape>
+void check_random(MakeShape make, std::uint64_t seed) {
+  int mesh_index = 0;
+  for (const Mesh& mesh : test_meshes()) {
+    const Tree tree = build(mesh);
+    const double radius = qt::bounding_sphere(mesh).radius;
+    std::mt19937_64 rng(seed + mesh_index);
+    std::uniform_real_distribution<double> u(0.05, 0.4);
+    int i = 0;
+    Coverage coverage;
+    for (const Pose& ps : shape_poses(mesh, seed + 17 * mesh_index, 21)) {
+      const Pose pm{qt::random_rotation(rng), Vec3(u(rng), -u(rng), u(rng))};
+      const Pose world_ps = pm * ps;  // the shape placed relative to the posed mesh
+      const auto shape = make(radius * u(rng), radius * u(rng), radius * u(rng));
+      expect_matches_brute_force(coverage, shape, world_ps, tree, mesh, pm, 0.05 * radius, 0.5 * (1 + i % 3),
+                                 "mesh " + std::to_string(mesh_index) + " pose " + std::to_string(i));
+      ++i;
+    }
+    EXPECT_GT(coverage.touching, 0) << "mesh " << mesh_index;
+    EXPECT_GT(coverage.within_margin_only, 0) << "mesh " << mesh_index;
+    EXPECT_GT(coverage.apart, 0) << "mesh " << mesh_index;
+    // The tree prunes: distance measures far fewer triangles than the brute force.
+    if (mesh.triangles.size() > 100) EXPECT_LT(4 * coverage.triangles_measured, coverage.brute_measured) << "mesh " << mesh_index;
+    ++mesh_index;
+  }
+}
+
+TEST(ShapeQuery, SphereMatchesBruteForce) {
+  check_random([](double a, double, double) { return Sphere(a); }, 1);
+}
+
+TEST(ShapeQuery, CapsuleMatchesBruteForce) {
+  check_random([](double a, double b, double) { return Capsule(0.5 * a, 2.0 * b); }, 2);
+}
+
+TEST(ShapeQuery, BoxMatchesBruteForce) {
+  check_random([](double a, double b, double c) { return Box(2.0 * a, 2.0 * b, 0.5 * c); }, 3);
+}
+
+Pose at(const Vec3& t) { return {Mat3::Identity(), t}; }
+
+// The unit cube [0, 1]^3: shapes tangent to its top face (z = 1) touch it; a hair above they do not.
+TEST(ShapeQuery, ExactlyTangentTouches) {
+  const Mesh cube = qt::cube();
+  const Tree tree = build(cube);
+  const Pose id;
+  const double above = std::nextafter(1.5, 2.0);
+
+  const ShapeDistanceResult tangent = distance(Sphere(0.5), at({0.5, 0.5, 1.5}), tree, cube, id);
+  EXPECT_EQ(tangent.distance, 0.0);
+  EXPECT_TRUE(tangent.intersecting);
+  EXPECT_TRUE(collide(Sphere(0.5), at({0.5, 0.5, 1.5}), tree, cube, id).hit);
+  EXPECT_FALSE(collide(Sphere(0.5), at({0.5, 0.5, above}), tree, cube, id).hit);
+  EXPECT_GT(distance(Sphere(0.5), at({0.5, 0.5, above}), tree, cube, id).distance, 0.0);
+
+  // A capsule standing on the face with its lower cap.
+  EXPECT_TRUE(collide(Capsule(0.25, 1.0), at({0.5, 0.5, 1.75}), tree, cube, id).hit);
+  EXPECT_FALSE(collide(Capsule(0.25, 1.0), at({0.5, 0.5, std::nextafter(1.75, 2.0)}), tree, cube, id).hit);
+
+  // A box whose bottom face is flush with the top face, and one a hair above.
+  const QueryOptions all{.mode = QueryMode::all_pairs};
+  const ShapeQueryResult flush = collide(Box(1.0, 1.0, 1.0), at({0.5, 0.5, 1.5}), tree, cube, id, all);
+  EXPECT_TRUE(flush.hit);
+  EXPECT_EQ(flush.triangles, collide_brute_force(Box(1.0, 1.0, 1.0), at({0.5, 0.5, 1.5}), cube, id, all).triangles);
+  EXPECT_EQ(distance(Box(1.0, 1.0, 1.0), at({0.5, 0.5, 1.5}), tree, cube, id).distance, 0.0);
+  EXPECT_FALSE(collide(Box(1.0, 1.0, 1.0), at({0.5, 0.5, above}), tree, cube, id).hit);
+  const ShapeDistanceResult gap = distance(Box(1.0, 1.0, 1.0), at({0.5, 0.5, 1.75}), tree, cube, id);
+  EXPECT_NEAR(gap.distance, 0.25, 1e-15);
+  EXPECT_NEAR(gap.point_shape.z(), 1.25, 1e-15);
+  EXPECT_NEAR(gap.point_mesh.z(), 1.0, 1e-15);
+  // A box edge resting on the face: rotated 45 degrees about x, its lowest edge at z = 1.
+  const Pose tilted{Eigen::AngleAxisd(M_PI / 4, Vec3::UnitX()).toRotationMatrix(), {0.5, 0.5, 1.0 + std::sqrt(0.5)}};
+  EXPECT_LT(distance(Box(1.0, 1.0, 1.0), tilted, tree, cube, id).distance, 1e-15);
+  EXPECT_EQ(collide(Box(1.0, 1.0, 1.0), tilted, tree, cube, id, all).triangles,
+            collide_brute_force(Box(1.0, 1.0, 1.0), tilted, cube, id, all).triangles);
+}
+
+// Solid shapes: a triangle wholly inside touches; a shape inside a closed mesh without touching
+// its surface does not (the mesh is a surface).
+TEST(ShapeQuery, TrianglesInsideTheShape) {
+  Mesh small;
+  small.vertices = {{0.1, 0.0, 0.0}, {0.0, 0.1, 0.0}, {0.0, 0.0, 0.1}};
+  small.triangles = {{0, 1, 2}};
+  const Tree tree = build(small);
+  const Pose id;
+  EXPECT_TRUE(collide(Box(1.0, 1.0, 1.0), id, tree, small, id).hit);
+  EXPECT_TRUE(collide(Sphere(1.0), id, tree, small, id).hit);
+  EXPECT_TRUE(collide(Capsule(0.5, 1.0), id, tree, small, id).hit);
+  EXPECT_EQ(distance(Box(1.0, 1.0, 1.0), id, tree, small, id).distance, 0.0);
+
+  const Mesh cube = qt::cube(Vec3::Constant(-2.0), 4.0);
+  const Tree cube_tree = build(cube);
+  EXPECT_FALSE(collide(Box(1.0, 1.0, 1.0), id, cube_tree, cube, id).hit);
+  EXPECT_NEAR(distance(Box(1.0, 1.0, 1.0), id, cube_tree, cube, id).distance, 1.5, 1e-15);
+  EXPECT_NEAR(distance(Sphere(1.0), id, cube_tree, cube, id).distance, 1.0, 1e-15);
+  // A box enclosing the whole mesh touches every triangle.
+  const ShapeQueryResult every =
+      collide(Box(5.0, 5.0, 5.0), id, cube_tree, cube, id, {.mode = QueryMode::all_pairs});
+  EXPECT_EQ(every.triangles.size(), cube.triangles.size());
+}
+
+// Degenerate triangles (a segment, a point) against each shape, tree and brute force.
+TEST(ShapeQuery, DegenerateTriangles) {
+  Mesh m;
+  m.vertices = {{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, {3.0, 3.0, 3.0}};
+  m.triangles = {{0, 1, 1}, {2, 2, 2}};
+  const Tree tree = build(m);
+  const Pose id;
+  const QueryOptions all{.mode = QueryMode::all_pairs};
+  EXPECT_EQ(collide(Sphere(0.5), at({0.5, 0.5, 0.0}), tree, m, id, all).triangles, (std::vector<std::uint32_t>{0}));
+  EXPECT_EQ(collide(Box(1.0, 1.0, 1.0), at({3.5, 3.5, 3.5}), tree, m, id, all).triangles,
+            (std::vector<std::uint32_t>{1}));
+  EXPECT_EQ(collide(Capsule(0.1, 2.0), at({0.5, 0.0, 0.0}), tree, m, id, all).triangles,
+            (std::vector<std::uint32_t>{0}));
+  const ShapeDistanceResult d = distance(Sphere(0.5), at({3.0, 3.0, 4.0}), tree, m, id);
+  EXPECT_EQ(d.triangle, 1u);
+  EXPECT_NEAR(d.distance, 0.5, 1e-15);
+  EXPECT_NEAR(distance(Box(1.0, 1.0, 1.0), at({0.5, 2.0, 0.0}), tree, m, id).distance, 1.5, 1e-15);
+}
+
+TEST(ShapeQuery, ModelOverloadsAndBounds) {
+  const Model model(qt::cube());
+  const Pose pm{Eigen::AngleAxisd(0.3, Vec3::UnitY()).toRotationMatrix(), {0.2, 0.0, 0.1}};
+  const Pose ps = pm * at({0.5, 0.5, 1.2});
+  EXPECT_EQ(collide(Sphere(0.3), ps, model, pm, {.mode = QueryMode::all_pairs}).triangles,
+            collide(Sphere(0.3), ps, model.tree(), model.mesh(), pm, {.mode = QueryMode::all_pairs}).triangles);
+  const ShapeDistanceResult d = distance(Capsule(0.1, 0.2), ps, model, pm);
+  EXPECT_NEAR(d.distance, 0.0, 1e-12);  // its lower cap reaches the top face
+  EXPECT_NEAR(distance(Box(0.2, 0.2, 0.2), ps, model, pm).distance, 0.1, 1e-12);
+
+  EXPECT_EQ(bounding_box(Sphere(2.0)).half_extents, Vec3(2.0, 2.0, 2.0));
+  EXPECT_EQ(bounding_box(Box(1.0, 2.0, 3.0)).half_extents, Vec3(0.5, 1.0, 1.5));
+  EXPECT_EQ(bounding_box(Capsule(1.0, 4.0)).half_extents, Vec3(1.0, 1.0, 3.0));
+}
+
+// The error message of `fn`'s InputError (empty when it throws none).
+template <class Fn>
+std::string error_of(Fn fn) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ShapeQuery, BadInputNamesTheField) {
+  EXPECT_NE(error_of([] { (void)Sphere(-1.0); }).find("radius"), std::string::npos);
+  EXPECT_NE(error_of([] { (void)Box(1.0, 0.0, 1.0); }).find("size y"), std::string::npos);
+  EXPECT_NE(error_of([] { (void)Capsule(1.0, std::nan("")); }).find("length"), std::string::npos);
+  EXPECT_NE(error_of([] { (void)Capsule(std::numeric_limits<double>::infinity(), 1.0); }).find("radius"),
+            std::string::npos);
+
+  const Model model(qt::cube());
+  Pose nan_pose;
+  nan_pose.translation.x() = std::nan("");
+  EXPECT_NE(error_of([&] { (void)collide(Sphere(1.0), nan_pose, model, Pose{}); }).find("shape pose"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { (void)distance(Box(1.0, 1.0, 1.0), Pose{}, model, nan_pose); }).find("mesh pose"),
+            std::string::npos);
+  Sphere bad(1.0);
+  bad.radius = -2.0;  // public member made invalid after construction
+  EXPECT_NE(error_of([&] { (void)distance(bad, Pose{}, model, Pose{}); }).find("sphere radius"), std::string::npos);
+  EXPECT_NE(error_of([&] { (void)collide(Sphere(1.0), Pose{}, model, Pose{}, {.margin = -1.0}); }).find("margin"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { (void)collide(Sphere(1.0), Pose{}, model, Pose{}, {.solid = true}); }).find("solid"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { (void)distance(Sphere(1.0), Pose{}, model, Pose{}, {.upper_bound = -1.0}); })
+                .find("upper_bound"),
+            std::string::npos);
+  const Mesh other = qt::random_soup(5, 1);
+  EXPECT_NE(error_of([&] { (void)collide(Sphere(1.0), Pose{}, model.tree(), other, Pose{}); }).find("tree"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace tightbvh

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -12,6 +13,7 @@
 #include "tightbvh/build.hpp"
 #include "tightbvh/error.hpp"
 #include "tightbvh/model.hpp"
+#include "tightbvh/point_query.hpp"
 
 namespace tightbvh {
 namespace {
@@ -40,6 +42,19 @@ std::vector<Pose> shape_poses(const Mesh& mesh, std::uint64_t seed, int count) {
 }
 
 bool near_relative(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max({1.0, std::abs(a), std::abs(b)}); }
+
+// How far the world point `x` is outside the shape at pose `ps` (negative inside).
+double outside(const Sphere& s, const Pose& ps, const Vec3& x) { return (x - ps.translation).norm() - s.radius; }
+double outside(const Capsule& s, const Pose& ps, const Vec3& x) {
+  const Vec3 local = ps.inverse().apply(x);
+  const double z = std::clamp(local.z(), -0.5 * s.length, 0.5 * s.length);
+  return (local - Vec3(0.0, 0.0, z)).norm() - s.radius;
+}
+double outside(const Box& s, const Pose& ps, const Vec3& x) {
+  const Vec3 gap = ps.inverse().apply(x).cwiseAbs() - 0.5 * s.size;
+  const double out = gap.cwiseMax(0.0).norm();
+  return out > 0.0 ? out : gap.maxCoeff();
+}
 
 // What the random poses covered, so that the comparisons are known to include each case.
 struct Coverage {
@@ -76,6 +91,13 @@ void expect_matches_brute_force(Coverage& coverage, const S& shape, const Pose& 
   EXPECT_FALSE(d.beyond_upper_bound);
   // The reported triangle is at that distance, and the points realise it.
   EXPECT_NEAR((d.point_shape - d.point_mesh).norm(), d.distance, 1e-9 * (1.0 + d.distance));
+  const double scale = 1e-9 * (1.0 + ps.translation.norm());
+  if (d.intersecting)  // a point of the triangle inside the shape
+    EXPECT_LE(outside(shape, ps, d.point_shape), scale);
+  else  // on the shape's surface
+    EXPECT_NEAR(outside(shape, ps, d.point_shape), 0.0, scale);
+  const auto [ta, tb, tc] = mesh.corners(d.triangle);
+  EXPECT_LE(closest_point_on_triangle(pm.inverse().apply(d.point_mesh), ta, tb, tc).distance, scale);
   // Margin semantics: a triangle is within the margin iff its distance is.
   const bool any_within = !collide_brute_force(shape, ps, mesh, pm, within).triangles.empty();
   EXPECT_EQ(any_within, bd.distance <= margin);

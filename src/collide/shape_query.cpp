@@ -63,6 +63,20 @@ struct Measure {
   return {d - r, s + (q - s) * (r / d), q};
 }
 
+// The shape's box in node box `node`'s frame, obb_overlap()'s frame.
+[[nodiscard]] query_detail::BoxFrame frame_of(const CompactBox& node, const Obb& box) {
+  return query_detail::in_box_frame(node, box.axes, box.center);
+}
+
+// A lower bound of the distance from anything in `box` (the shape's box) to anything in the node's
+// float box: obb_distance_lower_bound(), shrunk for the float axes (combined as if orthonormal,
+// off by a relative ~1e-6: compact_box.hpp) and less the allowance, as distance.cpp does.
+[[nodiscard]] double box_bound(const CompactBox& node, const Obb& box, double allowance) {
+  const query_detail::BoxFrame f = frame_of(node, box);
+  const double raw = obb_distance_lower_bound(f.c, f.d, node.half_extents_d(), box.half_extents);
+  return std::max(0.0, raw * (1.0 - kCompactBoxSlack) - allowance);
+}
+
 // A sphere in the mesh frame.
 struct PlacedSphere {
   Vec3 center;
@@ -75,6 +89,19 @@ struct PlacedSphere {
   [[nodiscard]] Measure measure(const Vec3& a, const Vec3& b, const Vec3& c) const {
     const TrianglePoint p = closest_point_on_triangle(center, a, b, c);
     return rounded_measure(center, p.point, p.distance, radius);
+  }
+  // The distance from the center to the node's float slab box { x : |a_i . (x - c)| <= e_i } (for x
+  // in it, |a_i . (x - p)| >= |a_i . (p - c)| - e_i), shrunk for the float axes and less the
+  // allowance as point_query.cpp's bound, then less the radius: a point–box bound, tighter and
+  // cheaper than the box–box one.
+  [[nodiscard]] double lower_bound(const CompactBox& node, double allowance) const {
+    const Vec3 d = center - node.center_d();
+    double sum = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const double s = std::abs(node.axes.col(i).cast<double>().dot(d)) - static_cast<double>(node.half_extents[i]);
+      if (s > 0.0) sum += s * s;
+    }
+    return std::max(0.0, std::sqrt(sum) * (1.0 - kCompactBoxSlack) - allowance - radius);
   }
   // measure(a, b, c).distance <= margin, with the same arithmetic.
   [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
@@ -98,6 +125,20 @@ struct PlacedCapsule {
   [[nodiscard]] Measure measure(const Vec3& a, const Vec3& b, const Vec3& c) const {
     const TriangleDistance t = tri_tri_distance(p, q, q, a, b, c);
     return rounded_measure(t.point_p, t.point_q, t.distance, radius);
+  }
+  // The distance from the axis segment to the node's float slab box, bounded per axis a_i: the
+  // segment's projection is mid_i -+ half_i, the box's c_i -+ e_i, so any two of their points are
+  // at least max(0, |mid_i - c_i| - half_i - e_i) apart along a_i; combined as the sphere's
+  // bound, less the radius. Tighter and cheaper than the capsule's box against the node's box.
+  [[nodiscard]] double lower_bound(const CompactBox& node, double allowance) const {
+    const Vec3 mid = 0.5 * (p + q) - node.center_d(), half = 0.5 * (q - p);
+    double sum = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const Vec3 axis = node.axes.col(i).cast<double>();
+      const double s = std::abs(axis.dot(mid)) - std::abs(axis.dot(half)) - static_cast<double>(node.half_extents[i]);
+      if (s > 0.0) sum += s * s;
+    }
+    return std::max(0.0, std::sqrt(sum) * (1.0 - kCompactBoxSlack) - allowance - radius);
   }
   [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
     const double d = tri_tri_distance(p, q, q, a, b, c).distance;
@@ -178,6 +219,22 @@ struct PlacedBox {
     return -1;
   }
 
+  // The faces (bit 2k for x_k = -h_k, 2k + 1 for x_k = h_k: surface triangles 2f and 2f + 1) with
+  // a corner of the triangle strictly outside their plane. For a triangle disjoint from the box,
+  // the closest points x (box) and y (triangle) have y - x in the normal cone at x, so x lies on a
+  // face whose plane y, hence a corner, is strictly outside of: the least distance over these
+  // faces is the least over all 12 surface triangles. Never empty for a disjoint triangle (each of
+  // its corners is outside the box).
+  [[nodiscard]] unsigned facing(const std::array<Vec3, 3>& v) const {
+    unsigned faces = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double lo = std::min({v[0][k], v[1][k], v[2][k]}), hi = std::max({v[0][k], v[1][k], v[2][k]});
+      if (lo < -h[k]) faces |= 1u << (2 * k);
+      if (hi > h[k]) faces |= 1u << (2 * k + 1);
+    }
+    return faces;
+  }
+
   [[nodiscard]] Measure measure(const Vec3& a, const Vec3& b, const Vec3& c) const {
     const std::array<Vec3, 3> v = mapped(a, b, c);
     const int touch = separated(v, 0.0) ? -1 : touching(v);
@@ -186,20 +243,29 @@ struct PlacedBox {
       point = to_mesh.apply(point);
       return {0.0, point, point};
     }
-    TriangleDistance best = tri_tri_distance(surface[0], v);
-    for (int s = 1; s < 12; ++s) {
+    const unsigned faces = facing(v);
+    TriangleDistance best;
+    bool found = false;
+    for (int s = 0; s < 12; ++s) {
+      if ((faces >> (s / 2) & 1u) == 0) continue;
       const TriangleDistance d = tri_tri_distance(surface[s], v);
-      if (d.distance < best.distance) best = d;
+      if (!found || d.distance < best.distance) best = d, found = true;
     }
     return {best.distance, to_mesh.apply(best.point_p), to_mesh.apply(best.point_q)};
+  }
+  [[nodiscard]] double lower_bound(const CompactBox& node, double allowance) const {
+    return box_bound(node, box, allowance);
   }
   [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
     const std::array<Vec3, 3> v = mapped(a, b, c);
     if (separated(v, margin)) return false;
     if (touching(v) >= 0) return true;
     if (margin == 0.0) return false;
-    for (const auto& s : surface)
-      if (tri_tri_within(s[0], s[1], s[2], v[0], v[1], v[2], margin)) return true;
+    const unsigned faces = facing(v);
+    for (int s = 0; s < 12; ++s)
+      if ((faces >> (s / 2) & 1u) != 0 &&
+          tri_tri_within(surface[s][0], surface[s][1], surface[s][2], v[0], v[1], v[2], margin))
+        return true;
     return false;
   }
 };
@@ -274,11 +340,6 @@ void check_tree(const char* who, const Tree& tree, const Mesh& mesh) {
          kShapeSkew * box.half_extents.sum();
 }
 
-// The shape's box in node box `node`'s frame, obb_overlap()'s frame.
-[[nodiscard]] query_detail::BoxFrame frame_of(const CompactBox& node, const Obb& box) {
-  return query_detail::in_box_frame(node, box.axes, box.center);
-}
-
 template <class P>
 [[nodiscard]] ShapeQueryResult collide_tree(const P& placed, const Tree& tree, const Mesh& mesh,
                                             const QueryOptions& options) {
@@ -350,9 +411,9 @@ struct Best {
   return r;
 }
 
-// Best first (the node of least bound next): the bound is obb_distance_lower_bound() of the node
-// box and the shape's box, shrunk for the float axes and less the allowance (as distance.cpp), so
-// it never exceeds the distance from the shape to the node's triangles. A node is skipped when
+// Best first (the node of least bound next): the shape's lower_bound() of the node (box_bound(),
+// or the sphere's and capsule's point– and segment–box bounds), which never exceeds the distance from the shape to the node's
+// triangles. A node is skipped when
 // its bound is at least the upper bound, or when the best so far is within the allowed error of
 // it; the search ends at a touching triangle.
 template <class P>
@@ -368,10 +429,7 @@ template <class P>
   const double allowance = shape_allowance(tree, placed.box);
   const auto bound = [&](std::uint32_t n) {
     ++stats.node_pairs;
-    const CompactBox& box = tree.nodes[n].box;
-    const query_detail::BoxFrame f = frame_of(box, placed.box);
-    const double raw = obb_distance_lower_bound(f.c, f.d, box.half_extents_d(), placed.box.half_extents);
-    return std::max(0.0, raw * (1.0 - kCompactBoxSlack) - allowance);
+    return placed.lower_bound(tree.nodes[n].box, allowance);
   };
   const auto skip = [&](double b) {
     if (b >= options.upper_bound) return true;

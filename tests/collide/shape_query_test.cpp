@@ -14,6 +14,7 @@
 #include "tightbvh/error.hpp"
 #include "tightbvh/model.hpp"
 #include "tightbvh/point_query.hpp"
+#include "tightbvh/tri_distance.hpp"
 
 namespace tightbvh {
 namespace {
@@ -157,6 +158,50 @@ TEST(ShapeQuery, BoxMatchesBruteForce) {
 }
 
 Pose at(const Vec3& t) { return {Mat3::Identity(), t}; }
+
+// The box distance against an independent reference: every triangle mapped into the box frame by
+// the composed pose, 0 when a corner is inside or it touches the surface, else the least
+// tri_tri_distance to all 12 surface triangles (the query skips faces the triangle is not outside of).
+TEST(ShapeQuery, BoxDistanceMatchesAllTwelveSurfaceTriangles) {
+  const Mesh mesh = qt::random_soup(60, 7);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.1, 0.8);
+  int apart = 0, touching = 0;
+  for (int i = 0; i < 20; ++i) {
+    const Vec3 h(u(rng), u(rng), u(rng));
+    const Box box(2.0 * h);
+    const Pose ps{qt::random_rotation(rng), 3.0 * Vec3(u(rng), -u(rng), 0.5 * u(rng))};
+    const Pose to_box = ps.inverse();
+    std::vector<std::array<Vec3, 3>> surface;
+    for (int k = 0; k < 3; ++k)
+      for (const double side : {-1.0, 1.0}) {
+        const int a = (k + 1) % 3, b = (k + 2) % 3;
+        std::array<Vec3, 4> q;
+        for (int m = 0; m < 4; ++m) {
+          q[m][k] = side * h[k];
+          q[m][a] = (m == 1 || m == 2 ? 1.0 : -1.0) * h[a];
+          q[m][b] = (m >= 2 ? 1.0 : -1.0) * h[b];
+        }
+        surface.push_back({q[0], q[1], q[2]});
+        surface.push_back({q[0], q[2], q[3]});
+      }
+    double want = std::numeric_limits<double>::infinity();
+    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+      const auto [a, b, c] = mesh.corners(t);
+      const std::array<Vec3, 3> v = {to_box.apply(a), to_box.apply(b), to_box.apply(c)};
+      for (const Vec3& x : v)
+        if ((x.cwiseAbs().array() <= h.array()).all()) want = 0.0;
+      for (const auto& f : surface) want = std::min(want, tri_tri_distance(f, v).distance);
+    }
+    const Tree tree = build(mesh);
+    const double got = distance(box, ps, tree, mesh, Pose{}).distance;
+    EXPECT_NEAR(got, want, 1e-12 * (1.0 + want)) << "pose " << i;
+    EXPECT_EQ(got, distance_brute_force(box, ps, mesh, Pose{}).distance) << "pose " << i;
+    (want > 0.0 ? apart : touching) += 1;
+  }
+  EXPECT_GT(apart, 0);
+  EXPECT_GT(touching, 0);
+}
 
 // The unit cube [0, 1]^3: shapes tangent to its top face (z = 1) touch it; a hair above they do not.
 TEST(ShapeQuery, ExactlyTangentTouches) {

@@ -29,10 +29,13 @@
 /// So for every shape the distance is exactly 0 iff the triangle touches, and a margin query
 /// reports the triangles at distance <= margin, the same distance distance() reports.
 ///
-/// Traversal: the shape's bounding box (bounding_box(), mapped into the mesh frame) against the
-/// tree's node boxes: obb_overlap() to cull (collide), obb_distance_lower_bound() best first
-/// (distance), each with an allowance for rounding, the float boxes' axes and a pose's rotation
-/// that is orthonormal only within kRotationTolerance (scene.hpp). Exact tests at the leaves.
+/// Traversal: collide culls with the shape's bounding box (bounding_box(), mapped into the mesh
+/// frame) against the tree's node boxes (obb_overlap()); distance searches best first with a lower
+/// bound per node (the sphere's center and the capsule's axis segment against the node's box, less
+/// the radius; the box's box by obb_distance_lower_bound()). Each allows for rounding, the float
+/// boxes' axes and a pose's rotation that is orthonormal only within kRotationTolerance
+/// (scene.hpp). Exact tests at the leaves. A box's distance measures only the faces a triangle
+/// is outside of (its closest point lies on one of them).
 #include <cstdint>
 #include <limits>
 #include <vector>

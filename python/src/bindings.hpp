@@ -45,5 +45,6 @@ void bind_collide(py::module_& m);
 void bind_distance(py::module_& m);
 void bind_scene(py::module_& m);
 void bind_points(py::module_& m);  // after bind_scene: methods of tightbvh.Model
+void bind_shapes(py::module_& m);
 
 }  // namespace tightbvh::python

@@ -25,4 +25,5 @@ PYBIND11_MODULE(_tightbvh, m) {
   tightbvh::python::bind_distance(m);
   tightbvh::python::bind_scene(m);
   tightbvh::python::bind_points(m);
+  tightbvh::python::bind_shapes(m);
 }

@@ -11,7 +11,10 @@ Bad input raises ValueError or TypeError naming the argument.
     result = tightbvh.collide(tree_a, a, None, tree_b, b, pose_b, all_pairs=True)
     gap = tightbvh.distance(tree_a, a, None, tree_b, b, pose_b)  # .distance, .point_a, .point_b
     scene = tightbvh.Scene()  # the methods of trimesh.collision.CollisionManager
+    hit = tightbvh.collide_shape(tightbvh.shapes.Sphere(0.1), pose, tightbvh.Model(a), None)
 """
+import sys as _sys
+
 from ._tightbvh import (
     CONTACT_KINDS,
     Ball,
@@ -25,6 +28,8 @@ from ._tightbvh import (
     Model,
     Result,
     Scene,
+    ShapeDistance,
+    ShapeResult,
     Tree,
     TreeCheck,
     __version__,
@@ -33,16 +38,22 @@ from ._tightbvh import (
     collide,
     collide_batch,
     collide_brute_force,
+    collide_shape,
     distance,
     distance_batch,
     distance_brute_force,
+    distance_shape,
     fit,
     fit_methods,
     fitter_names,
     load_mesh,
     refit,
+    shapes,
     split_names,
 )
+
+# `from tightbvh.shapes import Sphere` as for a package module.
+_sys.modules[__name__ + ".shapes"] = shapes
 
 __all__ = [
     "CONTACT_KINDS",
@@ -57,6 +68,8 @@ __all__ = [
     "Model",
     "Result",
     "Scene",
+    "ShapeDistance",
+    "ShapeResult",
     "Tree",
     "TreeCheck",
     "as_mesh",
@@ -64,13 +77,16 @@ __all__ = [
     "collide",
     "collide_batch",
     "collide_brute_force",
+    "collide_shape",
     "distance",
     "distance_batch",
     "distance_brute_force",
+    "distance_shape",
     "fit",
     "fit_methods",
     "fitter_names",
     "load_mesh",
     "refit",
+    "shapes",
     "split_names",
 ]

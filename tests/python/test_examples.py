@@ -56,3 +56,10 @@ def test_point_queries_agree_with_brute_force():
     lines = run("point_queries.py").splitlines()
     assert lines[0].startswith("2000 points: ") and int(lines[0].split()[2]) > 0
     assert lines[-1] == "brute force and signs: agree"
+
+
+def test_shapes_against_a_mesh_agree_with_the_point_queries():
+    lines = run("shapes_against_a_mesh.py").splitlines()
+    assert lines[0].startswith("capsule: ") and int(lines[0].split()[1]) > 0
+    assert lines[1].startswith("sphere: distance ") and lines[2].startswith("box at the origin: distance ")
+    assert lines[-1] == "checks: agree"

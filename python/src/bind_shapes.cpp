@@ -1,0 +1,196 @@
+// Primitive shapes against meshes (shape.hpp): the submodule tightbvh.shapes (Sphere, Box,
+// Capsule with FCL's conventions; tightbvh.Box is already the fitted box, hence the submodule),
+// and collide_shape / distance_shape of a shape against a tightbvh.Model. A fitted tightbvh.Box is
+// a shape too, posed where it was fitted. NumPy in and out; the GIL is released while querying.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "arrays.hpp"
+#include "bindings.hpp"
+#include "tightbvh/error.hpp"
+#include "tightbvh/shape.hpp"
+
+namespace tightbvh::python {
+namespace {
+
+using AnyShape = std::variant<Sphere, Box, Capsule>;
+
+struct PosedShape {
+  AnyShape shape;
+  Pose pose;  // shape frame to world
+};
+
+// The shape a Python argument holds, at the pose `pose_object` gives; a fitted tightbvh.Box (an
+// Obb) is the box of its side lengths placed at its center and axes, then moved by that pose.
+// TypeError naming "shape" for anything else.
+[[nodiscard]] PosedShape to_shape(py::handle object, py::handle pose_object) {
+  const Pose pose = to_pose(pose_object, "shape_pose");
+  if (py::isinstance<Sphere>(object)) return {object.cast<Sphere>(), pose};
+  if (py::isinstance<Box>(object)) return {object.cast<Box>(), pose};
+  if (py::isinstance<Capsule>(object)) return {object.cast<Capsule>(), pose};
+  if (py::isinstance<Obb>(object)) {
+    const Obb fitted = object.cast<Obb>();
+    if (fitted.axes.determinant() < 0.0)
+      throw py::value_error("shape: the fitted Box's axes are not right-handed (determinant < 0)");
+    return {Box(2.0 * fitted.half_extents), Pose{pose.rotation * fitted.axes, pose.apply(fitted.center)}};
+  }
+  throw py::type_error("shape must be a tightbvh.shapes.Sphere, Box or Capsule, or a fitted tightbvh.Box, got " +
+                       py::str(py::type::of(object).attr("__name__")).cast<std::string>());
+}
+
+[[nodiscard]] std::string number(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+// A shape's answer: hit, triangles (K,) int64 (sorted, unique with all_pairs), stats.
+struct PyShapeResult {
+  bool hit = false;
+  py::array_t<std::int64_t> triangles;
+  QueryStats stats;
+};
+
+PyShapeResult collide_shape_py(py::handle shape, py::handle shape_pose, const PyModel& model, py::handle model_pose,
+                               bool all_pairs, double margin) {
+  const PosedShape s = to_shape(shape, shape_pose);
+  const Pose pm = to_pose(model_pose, "model_pose");
+  QueryOptions options;
+  options.mode = all_pairs ? QueryMode::all_pairs : QueryMode::first_hit;
+  options.margin = margin;
+  ShapeQueryResult r;
+  {
+    const py::gil_scoped_release release;
+    r = std::visit([&](const auto& typed) { return collide(typed, s.pose, *model.model, pm, options); }, s.shape);
+  }
+  py::array_t<std::int64_t> triangles(static_cast<py::ssize_t>(r.triangles.size()));
+  auto t = triangles.mutable_unchecked<1>();
+  for (std::size_t i = 0; i < r.triangles.size(); ++i) t(static_cast<py::ssize_t>(i)) = r.triangles[i];
+  return {r.hit, triangles, r.stats};
+}
+
+ShapeDistanceResult distance_shape_py(py::handle shape, py::handle shape_pose, const PyModel& model,
+                                      py::handle model_pose, double absolute_error, double relative_error,
+                                      double upper_bound) {
+  const PosedShape s = to_shape(shape, shape_pose);
+  const Pose pm = to_pose(model_pose, "model_pose");
+  DistanceOptions options;
+  options.absolute_error = absolute_error;
+  options.relative_error = relative_error;
+  options.upper_bound = upper_bound;
+  const py::gil_scoped_release release;
+  return std::visit([&](const auto& typed) { return distance(typed, s.pose, *model.model, pm, options); }, s.shape);
+}
+
+// A point of a distance answer: None beyond the upper bound.
+py::object point_or_none(const ShapeDistanceResult& r, const Vec3& p) {
+  if (r.beyond_upper_bound) return py::none();
+  return to_array(p);
+}
+
+}  // namespace
+
+void bind_shapes(py::module_& m) {
+  py::module_ shapes = m.def_submodule(
+      "shapes", "Primitive shapes for collide_shape and distance_shape, with FCL's conventions: each centered at "
+                "the origin of its frame; Capsule along the local z axis.");
+  py::class_<Sphere>(shapes, "Sphere", "A solid sphere centered at the origin of its frame (FCL's Sphere).")
+      .def(py::init<double>(), py::arg("radius"), "ValueError unless radius is positive and finite.")
+      .def_readonly("radius", &Sphere::radius)
+      .def("__repr__", [](const Sphere& s) { return "tightbvh.shapes.Sphere(radius=" + number(s.radius) + ")"; });
+
+  py::class_<Box>(shapes, "Box",
+                  "A solid box centered at the origin of its frame, faces normal to the local axes (FCL's Box(x, y, "
+                  "z); trimesh's primitives.Box(extents)): full side lengths.")
+      .def(py::init<double, double, double>(), py::arg("x"), py::arg("y"), py::arg("z"),
+           "ValueError unless each side length is positive and finite.")
+      .def(py::init([](const py::array_t<double, py::array::c_style | py::array::forcecast>& extents) {
+             if (extents.ndim() != 1 || extents.shape(0) != 3)
+               throw py::value_error("Box: extents must have shape (3,), got " + std::to_string(extents.size()) +
+                                     " values in " + std::to_string(extents.ndim()) + " dimensions");
+             return Box(Vec3(extents.at(0), extents.at(1), extents.at(2)));
+           }),
+           py::arg("extents"), "The box of these three side lengths ((3,) array-like).")
+      .def_property_readonly("extents", [](const Box& b) { return to_array(b.size); },
+                             "the full side lengths along x, y, z, (3,) float64")
+      .def("__repr__", [](const Box& b) {
+        return "tightbvh.shapes.Box(" + number(b.size.x()) + ", " + number(b.size.y()) + ", " + number(b.size.z()) + ")";
+      });
+
+  py::class_<Capsule>(shapes, "Capsule",
+                      "A solid capsule: the points within radius of the segment from (0, 0, -length / 2) to (0, 0, "
+                      "length / 2) of its frame (FCL's Capsule(radius, lz); trimesh calls the length height).")
+      .def(py::init<double, double>(), py::arg("radius"), py::arg("length"),
+           "ValueError unless both are positive and finite.")
+      .def_readonly("radius", &Capsule::radius)
+      .def_readonly("length", &Capsule::length)
+      .def("__repr__", [](const Capsule& c) {
+        return "tightbvh.shapes.Capsule(radius=" + number(c.radius) + ", length=" + number(c.length) + ")";
+      });
+
+  py::class_<PyShapeResult>(m, "ShapeResult",
+                            "collide_shape's answer: hit, triangles (K,) int64 (the mesh's triangles that touch the "
+                            "shape: every one, sorted, with all_pairs; else the one found), stats")
+      .def_readonly("hit", &PyShapeResult::hit)
+      .def_readonly("triangles", &PyShapeResult::triangles)
+      .def_property_readonly("stats",
+                             [](const PyShapeResult& r) {
+                               py::dict d;
+                               d["box_tests"] = r.stats.box_tests;
+                               d["triangle_tests"] = r.stats.triangle_tests;
+                               return d;
+                             })
+      .def("__repr__", [](const PyShapeResult& r) {
+        return "<tightbvh.ShapeResult hit=" + std::string(r.hit ? "True" : "False") +
+               " triangles=" + std::to_string(r.triangles.size()) + ">";
+      });
+
+  py::class_<ShapeDistanceResult>(m, "ShapeDistance",
+                                  "distance_shape's answer: distance (0 when touching), intersecting, "
+                                  "beyond_upper_bound, triangle, point_shape and point_mesh (world frame), stats")
+      .def_readonly("distance", &ShapeDistanceResult::distance)
+      .def_readonly("intersecting", &ShapeDistanceResult::intersecting)
+      .def_readonly("beyond_upper_bound", &ShapeDistanceResult::beyond_upper_bound)
+      .def_property_readonly(
+          "triangle",
+          [](const ShapeDistanceResult& r) -> py::object {
+            if (r.beyond_upper_bound) return py::none();
+            return py::int_(r.triangle);
+          },
+          "the closest triangle's index, None beyond the upper bound")
+      .def_property_readonly("point_shape", [](const ShapeDistanceResult& r) { return point_or_none(r, r.point_shape); },
+                             "the closest point on the shape (world frame), None beyond the upper bound")
+      .def_property_readonly("point_mesh", [](const ShapeDistanceResult& r) { return point_or_none(r, r.point_mesh); },
+                             "the closest point on the mesh (world frame), None beyond the upper bound")
+      .def_property_readonly("stats",
+                             [](const ShapeDistanceResult& r) {
+                               py::dict d;
+                               d["node_pairs"] = r.stats.node_pairs;
+                               d["triangle_pairs"] = r.stats.triangle_pairs;
+                               return d;
+                             })
+      .def("__repr__", [](const ShapeDistanceResult& r) {
+        return "<tightbvh.ShapeDistance distance=" + number(r.distance) + ">";
+      });
+
+  const double inf = std::numeric_limits<double>::infinity();
+  m.def("collide_shape", &collide_shape_py, py::arg("shape"), py::arg("shape_pose"), py::arg("model"),
+        py::arg("model_pose") = py::none(), py::arg("all_pairs") = false, py::arg("margin") = 0.0,
+        "Which triangles of `model` (at model_pose, a 4x4 transform or None) touch `shape` (a tightbvh.shapes "
+        "Sphere, Box or Capsule at shape_pose, or a fitted tightbvh.Box, where it was fitted, moved by shape_pose): the first found, or with all_pairs=True every one; with margin > 0 those within "
+        "it. Touching is decided exactly for every shape. -> ShapeResult");
+  m.def("distance_shape", &distance_shape_py, py::arg("shape"), py::arg("shape_pose"), py::arg("model"),
+        py::arg("model_pose") = py::none(), py::arg("absolute_error") = 0.0, py::arg("relative_error") = 0.0,
+        py::arg("upper_bound") = inf,
+        "The minimum distance between `shape` (at shape_pose) and `model` (at model_pose), with the closest "
+        "triangle and points (world frame); 0 when they touch. -> ShapeDistance");
+}
+
+}  // namespace tightbvh::python

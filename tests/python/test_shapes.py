@@ -1,0 +1,102 @@
+"""tightbvh.shapes against meshes: collide_shape and distance_shape, checked against the point
+queries (a sphere is a point grown by its radius) and against geometry known in closed form."""
+import numpy as np
+import pytest
+import tightbvh
+from conftest import pose_matrix, rotation
+from tightbvh.shapes import Box, Capsule, Sphere
+
+
+@pytest.fixture(scope="module")
+def elephant_model(elephant):
+    return tightbvh.Model(elephant)
+
+
+@pytest.fixture(scope="module")
+def unit_cube():
+    """The cube [-1, 1]^3, outward triangles."""
+    corners = np.array([[1.0 if i & 1 else -1.0, 1.0 if i & 2 else -1.0, 1.0 if i & 4 else -1.0] for i in range(8)])
+    faces = np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+                      [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]])
+    return tightbvh.Mesh(corners, faces)
+
+
+def translation(x, y, z):
+    return pose_matrix(np.eye(3), [x, y, z])
+
+
+def test_sphere_is_a_point_grown_by_its_radius(elephant, elephant_model):
+    # distance(sphere) = max(0, distance(center) - r), and it touches exactly when that is 0.
+    rng = np.random.default_rng(3)
+    lo, hi = elephant.vertices.min(axis=0), elephant.vertices.max(axis=0)
+    centers = lo - 0.2 + rng.random((40, 3)) * (hi - lo + 0.4)
+    _, point_distances, _ = elephant_model.closest_points(centers)
+    hits = 0
+    for c, d in zip(centers, point_distances):
+        r = 0.05
+        got = tightbvh.distance_shape(Sphere(r), translation(*c), elephant_model)
+        assert got.distance == pytest.approx(max(0.0, d - r), rel=1e-12, abs=1e-15)
+        hit = tightbvh.collide_shape(Sphere(r), translation(*c), elephant_model)
+        assert hit.hit == (d <= r) == got.intersecting
+        hits += hit.hit
+        if not got.intersecting:
+            assert np.linalg.norm(got.point_shape - c) == pytest.approx(r, rel=1e-12)
+            assert np.linalg.norm(got.point_mesh - c) == pytest.approx(d, rel=1e-12)
+    assert 0 < hits < len(centers)
+
+
+def test_closed_forms_against_a_unit_cube(unit_cube):
+    model = tightbvh.Model(unit_cube)  # [-1, 1]^3
+    assert tightbvh.distance_shape(Sphere(1.0), translation(3, 0, 0), model).distance == pytest.approx(1.0)
+    capsule = tightbvh.distance_shape(Capsule(0.5, 4.0), translation(0, 3, 0), model)  # axis along z, at y = 3
+    assert capsule.distance == pytest.approx(1.5) and capsule.point_mesh[1] == pytest.approx(1.0)
+    box = tightbvh.distance_shape(Box(1, 1, 1), translation(0, 0, 2.5), model)
+    assert box.distance == pytest.approx(1.0) and not box.beyond_upper_bound
+    # Turned by 45 degrees about z, the box's vertical edge faces the cube, sqrt(0.5) from its center.
+    turned = pose_matrix(rotation([0, 0, 1], np.pi / 4), [2.5, 0, 0])
+    assert tightbvh.distance_shape(Box(1, 1, 1), turned, model).distance == pytest.approx(1.5 - np.sqrt(0.5))
+    # A margin just above the gap reports the facing triangles, just below none.
+    near = tightbvh.collide_shape(Sphere(1.0), translation(3, 0, 0), model, all_pairs=True, margin=1.0 + 1e-9)
+    assert near.hit and len(near.triangles) > 0
+    assert not tightbvh.collide_shape(Sphere(1.0), translation(3, 0, 0), model, margin=1.0 - 1e-9).hit
+    far = tightbvh.distance_shape(Sphere(1.0), translation(30, 0, 0), model, upper_bound=5.0)
+    assert far.beyond_upper_bound and far.triangle is None and far.point_mesh is None
+
+
+def test_every_triangle_touches_the_fitted_box_around_it(elephant, elephant_model):
+    # A fitted box contains the mesh; the shape is solid, so every triangle touches it.
+    fitted = tightbvh.fit(elephant.vertices, method="pca")
+    result = tightbvh.collide_shape(fitted, None, elephant_model, all_pairs=True)
+    assert result.hit
+    assert result.triangles.tolist() == list(range(len(elephant.faces)))
+    assert result.triangles.dtype == np.int64
+    # Moved away by twice its size, it touches nothing.
+    away = translation(*(4 * fitted.half_extents.max() * np.ones(3)))
+    assert not tightbvh.collide_shape(fitted, away, elephant_model).hit
+
+
+def test_all_pairs_reports_touching_triangles_only(elephant, elephant_model):
+    pose = translation(*elephant.vertices[100])
+    result = tightbvh.collide_shape(Capsule(0.03, 0.2), pose, elephant_model, all_pairs=True)
+    assert result.hit and result.stats["triangle_tests"] >= len(result.triangles) > 0
+    assert np.all(np.diff(result.triangles) > 0)  # sorted, unique
+    first = tightbvh.collide_shape(Capsule(0.03, 0.2), pose, elephant_model)
+    assert first.hit and len(first.triangles) == 1 and first.triangles[0] in result.triangles
+
+
+def test_shapes_and_bad_input(elephant_model):
+    assert Box([1, 2, 3]).extents.tolist() == [1, 2, 3] == Box(1, 2, 3).extents.tolist()
+    assert (Sphere(2).radius, Capsule(1, 3).length) == (2, 3)
+    assert "Capsule" in repr(Capsule(1, 3))
+    with pytest.raises(ValueError, match="radius"):
+        Sphere(-1.0)
+    with pytest.raises(ValueError, match="length"):
+        Capsule(1.0, float("nan"))
+    with pytest.raises(ValueError, match="extents"):
+        Box([1, 2])
+    with pytest.raises(TypeError, match="shape must be"):
+        tightbvh.collide_shape("ball", None, elephant_model)
+    with pytest.raises(ValueError):
+        tightbvh.collide_shape(Sphere(1), np.full((4, 4), np.nan), elephant_model)
+    with pytest.raises(ValueError, match="margin"):
+        tightbvh.collide_shape(Sphere(1), None, elephant_model, margin=-1.0)

@@ -2,7 +2,8 @@
 /// @file
 /// Scenes: many posed objects in one broad phase, the narrow phase on the objects' trees.
 ///
-/// A Scene holds objects, each a shared Model (model.hpp) at a world pose, with Bullet/Jolt-style
+/// A Scene holds objects, each a shared Model (model.hpp) or a primitive Shape (shape.hpp) at a
+/// world pose, with Bullet/Jolt-style
 /// collision filter bits (an object pair is tested only when each one's group meets the other's
 /// mask) and an optional unique name, addressed by a stable ObjectId (ids are never reused, so a
 /// removed and re-added object gets a new id). An explicit set of allowed pairs (MoveIt's
@@ -38,6 +39,7 @@
 #include "tightbvh/distance.hpp"
 #include "tightbvh/model.hpp"
 #include "tightbvh/pose.hpp"
+#include "tightbvh/shape.hpp"
 
 namespace tightbvh {
 
@@ -51,13 +53,20 @@ inline constexpr std::uint32_t kAllGroups = 0xffffffffu;
 /// or with determinant < 0, is an InputError.
 inline constexpr double kRotationTolerance = 1e-6;
 
-/// One posed object of a scene.
+/// One posed object of a scene: a model or a shape (exactly one of the two).
+///
+/// A shape's pairs use the shape queries (shape.hpp): against a model, QueryResult::pairs holds
+/// (0, triangle) with the shape as A, (triangle, 0) with the shape as B; two shapes touch with no
+/// pairs. Shapes are solids; QueryOptions::solid and DistanceOptions::solid apply to model pairs
+/// only (a shape wholly inside a closed model, touching no triangle, is not reported), and
+/// signed_distance and contacts are not available for shape pairs (InputError).
 struct SceneObject {
-  ModelPtr model;                    ///< the shared mesh and tree (not null)
+  ModelPtr model;                    ///< the shared mesh and tree (null for a shape)
   Pose pose;                         ///< x_world = pose.rotation * x_model + pose.translation
   std::uint32_t group = 1;           ///< the filter bits this object belongs to
   std::uint32_t mask = kAllGroups;   ///< the groups it may collide with
   std::string name;                  ///< optional; when not empty, unique within the scene
+  std::optional<Shape> shape;        ///< a primitive shape instead of a model
 };
 
 /// The top-level tree's counters: the measurement hook for comparing update schemes.
@@ -95,11 +104,14 @@ class Scene {
   /// Takes `other`'s contents; `other` is left empty.
   Scene& operator=(Scene&& other) noexcept;
 
-  /// Adds an object and returns its new id. InputError for a null model, a non-finite pose or a
-  /// rotation that is not orthonormal (kRotationTolerance), or a name already in the scene.
+  /// Adds an object and returns its new id. InputError for an object with neither or both of a
+  /// model and a shape, a non-finite pose or a rotation that is not orthonormal
+  /// (kRotationTolerance), or a name already in the scene.
   ObjectId add(SceneObject object);
   /// add() with the default filter bits.
   ObjectId add(ModelPtr model, const Pose& pose, std::string name = {});
+  /// add() of a shape with the default filter bits.
+  ObjectId add(const Shape& shape, const Pose& pose, std::string name = {});
   /// Removes an object (and its allowed pairs). InputError for an id not in the scene.
   void remove(ObjectId id);
   /// Moves an object. InputError for an unknown id or a bad pose (as add()).
@@ -218,6 +230,8 @@ struct ObjectDistance {
 /// The world-space box of `model` at `pose` as the scene uses it: model.bounds() posed, as an
 /// axis-aligned box padded by a relative 1e-9 for rounding.
 [[nodiscard]] Aabb world_bounds(const Model& model, const Pose& pose);
+/// The same for a shape: its bounding_box() posed.
+[[nodiscard]] Aabb world_bounds(const Shape& shape, const Pose& pose);
 
 /// Throws InputError "<who>: <what>: ..." unless `pose` is finite with an orthonormal,
 /// right-handed rotation (within kRotationTolerance).

@@ -38,6 +38,7 @@
 /// is outside of (its closest point lies on one of them).
 #include <cstdint>
 #include <limits>
+#include <variant>
 #include <vector>
 
 #include "tightbvh/collide.hpp"
@@ -82,6 +83,28 @@ struct Capsule {
 [[nodiscard]] Obb bounding_box(const Box& shape);
 /// The shape's box in its own frame: half extents (radius, radius, length / 2 + radius).
 [[nodiscard]] Obb bounding_box(const Capsule& shape);
+
+/// Any one of the shapes: a scene object's shape (scene.hpp).
+using Shape = std::variant<Sphere, Box, Capsule>;
+/// The shape's box in its own frame (the bounding_box() of the shape it holds).
+[[nodiscard]] Obb bounding_box(const Shape& shape);
+/// "sphere", "box" or "capsule": the scene file's names.
+[[nodiscard]] const char* shape_name(const Shape& shape);
+
+/// The distance between two posed shapes (solids).
+struct ShapePairDistance {
+  double distance = 0.0;           ///< >= 0; 0 when the solids touch or overlap
+  Vec3 point_a = Vec3::Zero();     ///< the closest point of A (world frame); a common point when touching
+  Vec3 point_b = Vec3::Zero();     ///< the closest point of B (world frame); equal to point_a when touching
+};
+
+/// The distance between shape `a` at pose `pa` and shape `b` at pose `pb` (shape frames to
+/// world), as solids. Each shape is a core grown by a radius: a sphere its center, a capsule its
+/// axis segment, a box itself (radius 0). The cores' distance comes from tri_tri_distance
+/// (points and segments as degenerate triangles; a box as its 12 surface triangles, after an
+/// exact point-in-box test of the other's endpoints or corners, so a core inside a box is at 0),
+/// less the two radii. InputError for a pose that is not a finite proper rotation.
+[[nodiscard]] ShapePairDistance distance(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb);
 
 /// The answer of collide() of a shape and a mesh.
 struct ShapeQueryResult {

@@ -11,6 +11,7 @@
 #include <unordered_map>
 #include <unordered_set>
 #include <utility>
+#include <variant>
 
 #include "../tree/parallel.hpp"
 #include "tightbvh/error.hpp"
@@ -229,8 +230,10 @@ void require_valid_pose(const Pose& pose, const std::string& who, const std::str
   if (pose.rotation.determinant() < 0.0) throw InputError(who + ": " + what + ": the rotation is a reflection (det < 0)");
 }
 
-Aabb world_bounds(const Model& model, const Pose& pose) {
-  const Obb& o = model.bounds();
+namespace {
+
+// A box of an object's own frame as the scene holds it at `pose`.
+Aabb posed_bounds(const Obb& o, const Pose& pose) {
   const Mat3& r = pose.rotation;
   // Written out (the scene computes one per moved object per frame): the center under the pose,
   // and the half extents h_i = sum_j |(R A)_ij| e_j of the box's axes A and half extents e.
@@ -252,6 +255,16 @@ Aabb world_bounds(const Model& model, const Pose& pose) {
   }
   return box;
 }
+
+// The world box of a scene object.
+Aabb object_bounds(const SceneObject& object, const Pose& pose) {
+  return object.shape ? world_bounds(*object.shape, pose) : world_bounds(*object.model, pose);
+}
+
+}  // namespace
+
+Aabb world_bounds(const Model& model, const Pose& pose) { return posed_bounds(model.bounds(), pose); }
+Aabb world_bounds(const Shape& shape, const Pose& pose) { return posed_bounds(bounding_box(shape), pose); }
 
 namespace {
 
@@ -317,6 +330,65 @@ void check_max_distance(double d) {
   if (!(d > 0.0)) throw InputError("scene distance_within: max_distance must be > 0, got " + std::to_string(d));
 }
 
+// The pair query of two scene objects, whichever kinds they are (scene.hpp, SceneObject).
+QueryResult pair_collide(const SceneObject& a, const SceneObject& b, const QueryOptions& options,
+                         QueryWorkspace& workspace) {
+  if (a.model && b.model) return collide(*a.model, a.pose, *b.model, b.pose, options, workspace);
+  if (options.contacts) throw InputError("scene collide: contacts are not available for shapes");
+  QueryResult r;
+  if (a.shape && b.shape) {
+    r.hit = distance(*a.shape, a.pose, *b.shape, b.pose).distance <= options.margin;
+    return r;
+  }
+  const bool shape_is_a = a.shape.has_value();
+  const SceneObject& shape = shape_is_a ? a : b;
+  const SceneObject& model = shape_is_a ? b : a;
+  QueryOptions o = options;
+  o.solid = false;  // shapes are solids already; see SceneObject
+  const ShapeQueryResult q =
+      std::visit([&](const auto& s) { return collide(s, shape.pose, *model.model, model.pose, o); }, *shape.shape);
+  r.hit = q.hit;
+  r.stats = q.stats;
+  for (const std::uint32_t t : q.triangles) r.pairs.push_back(shape_is_a ? TrianglePair{0, t} : TrianglePair{t, 0});
+  return r;
+}
+
+DistanceResult pair_distance(const SceneObject& a, const SceneObject& b, const DistanceOptions& options,
+                             QueryWorkspace& workspace) {
+  if (a.model && b.model) return distance(*a.model, a.pose, *b.model, b.pose, options, workspace);
+  if (options.signed_distance) throw InputError("scene distance: signed_distance is not available for shapes");
+  DistanceResult r;
+  if (a.shape && b.shape) {
+    const ShapePairDistance d = distance(*a.shape, a.pose, *b.shape, b.pose);
+    if (d.distance >= options.upper_bound) {
+      r.distance = options.upper_bound;
+      r.beyond_upper_bound = true;
+      return r;
+    }
+    r.distance = d.distance;
+    r.point_a = d.point_a;
+    r.point_b = d.point_b;
+  } else {
+    const bool shape_is_a = a.shape.has_value();
+    const SceneObject& shape = shape_is_a ? a : b;
+    const SceneObject& model = shape_is_a ? b : a;
+    DistanceOptions o = options;
+    o.solid = false;  // see SceneObject
+    const ShapeDistanceResult d =
+        std::visit([&](const auto& s) { return distance(s, shape.pose, *model.model, model.pose, o); }, *shape.shape);
+    r.distance = d.distance;
+    r.beyond_upper_bound = d.beyond_upper_bound;
+    r.stats = d.stats;
+    if (r.beyond_upper_bound) return r;
+    r.pair = shape_is_a ? TrianglePair{0, d.triangle} : TrianglePair{d.triangle, 0};
+    r.point_a = shape_is_a ? d.point_shape : d.point_mesh;
+    r.point_b = shape_is_a ? d.point_mesh : d.point_shape;
+  }
+  r.point_a_local = a.pose.inverse().apply(r.point_a);
+  r.point_b_local = b.pose.inverse().apply(r.point_b);
+  return r;
+}
+
 // The tested pairs of one scene whose boxes are within `gap`, sorted by (a, b) with a < b.
 std::vector<Job> self_jobs(const State& s, double gap) {
   const std::lock_guard lock(s.mutex);
@@ -360,7 +432,7 @@ std::vector<ObjectPairHit> collide_jobs(const std::vector<Job>& jobs, const Quer
   const QueryOptions o = scene_options(options);
   auto results = run_jobs<QueryResult>(jobs.size(), threads, workspaces, [&](std::size_t i, QueryWorkspace& workspace) {
     const Job& j = jobs[i];
-    return collide(*j.sa->object.model, j.sa->object.pose, *j.sb->object.model, j.sb->object.pose, o, workspace);
+    return pair_collide(j.sa->object, j.sb->object, o, workspace);
   });
   std::vector<ObjectPairHit> hits;
   for (std::size_t i = 0; i < jobs.size(); ++i)
@@ -375,7 +447,7 @@ std::vector<ObjectPairDistance> within_jobs(const std::vector<Job>& jobs, double
   o.upper_bound = max_distance;
   auto results = run_jobs<DistanceResult>(jobs.size(), threads, workspaces, [&](std::size_t i, QueryWorkspace& workspace) {
     const Job& j = jobs[i];
-    return distance(*j.sa->object.model, j.sa->object.pose, *j.sb->object.model, j.sb->object.pose, o, workspace);
+    return pair_distance(j.sa->object, j.sb->object, o, workspace);
   });
   std::vector<ObjectPairDistance> out;
   for (std::size_t i = 0; i < jobs.size(); ++i)
@@ -398,8 +470,7 @@ std::optional<ObjectPairDistance> nearest(const TopTree& x, const TopTree& y, bo
     if (!accept(i, j, job)) return;
     o.upper_bound = best ? std::nextafter(best->result.distance, std::numeric_limits<double>::infinity())
                          : options.upper_bound;
-    DistanceResult r = distance(*job.sa->object.model, job.sa->object.pose, *job.sb->object.model,
-                                job.sb->object.pose, o, workspace);
+    DistanceResult r = pair_distance(job.sa->object, job.sb->object, o, workspace);
     if (r.beyond_upper_bound) return;
     if (!best || r.distance < best->result.distance ||
         (r.distance == best->result.distance && std::pair(job.a, job.b) < std::pair(best->a, best->b))) {
@@ -445,7 +516,8 @@ ObjectId Scene::add(SceneObject object) {
   State& s = *state_;
   const ObjectId id = s.next_id;
   const std::string label = object_label(id, object.name);
-  if (!object.model) throw InputError("scene: add: " + label + ": the model is null");
+  if (!object.model && !object.shape) throw InputError("scene: add: " + label + ": neither a model nor a shape (the model is null)");
+  if (object.model && object.shape) throw InputError("scene: add: " + label + ": both a model and a shape (an object is one or the other)");
   require_valid_pose(object.pose, "scene: add", label);
   if (!object.name.empty() && s.names.contains(object.name))
     throw InputError("scene: add: duplicate name '" + object.name + "' (object " +
@@ -454,7 +526,7 @@ ObjectId Scene::add(SceneObject object) {
   ++s.next_id;
   Slot slot;
   slot.id = id;
-  slot.box = tightbvh::world_bounds(*object.model, object.pose);
+  slot.box = object_bounds(object, object.pose);
   slot.object = std::move(object);
   if (!slot.object.name.empty()) s.names.emplace(slot.object.name, id);
   s.index.emplace(id, static_cast<std::uint32_t>(s.slots.size()));
@@ -466,6 +538,14 @@ ObjectId Scene::add(SceneObject object) {
 ObjectId Scene::add(ModelPtr model, const Pose& pose, std::string name) {
   SceneObject object;
   object.model = std::move(model);
+  object.pose = pose;
+  object.name = std::move(name);
+  return add(std::move(object));
+}
+
+ObjectId Scene::add(const Shape& shape, const Pose& pose, std::string name) {
+  SceneObject object;
+  object.shape = shape;
   object.pose = pose;
   object.name = std::move(name);
   return add(std::move(object));
@@ -490,7 +570,7 @@ void Scene::set_pose(ObjectId id, const Pose& pose) {
   Slot& slot = state_->slot(id, "set_pose");
   require_valid_pose(pose, "scene: set_pose", object_label(id, slot.object.name));
   slot.object.pose = pose;
-  slot.box = tightbvh::world_bounds(*slot.object.model, pose);
+  slot.box = object_bounds(slot.object, pose);
   state_->mark_moved(state_->index.at(id));
 }
 
@@ -509,7 +589,7 @@ void Scene::set_poses(std::span<const ObjectId> ids, std::span<const Pose> poses
   for (std::size_t i = 0; i < ids.size(); ++i) {
     Slot& slot = state_->slots[at[i]];
     slot.object.pose = poses[i];
-    slot.box = tightbvh::world_bounds(*slot.object.model, poses[i]);
+    slot.box = object_bounds(slot.object, poses[i]);
     state_->mark_moved(at[i]);
   }
 }
@@ -559,7 +639,8 @@ Aabb Scene::world_bounds(ObjectId id) const { return state_->slot(id, "world_bou
 
 std::size_t Scene::model_count() const {
   std::unordered_set<const Model*> models;
-  for (const Slot& slot : state_->slots) models.insert(slot.object.model.get());
+  for (const Slot& slot : state_->slots)
+    if (slot.object.model) models.insert(slot.object.model.get());
   return models.size();
 }
 
@@ -567,7 +648,7 @@ std::size_t Scene::model_bytes() const {
   std::unordered_set<const Model*> models;
   std::size_t bytes = 0;
   for (const Slot& slot : state_->slots)
-    if (models.insert(slot.object.model.get()).second) bytes += slot.object.model->bytes();
+    if (slot.object.model && models.insert(slot.object.model.get()).second) bytes += slot.object.model->bytes();
   return bytes;
 }
 
@@ -638,10 +719,12 @@ std::vector<std::vector<ObjectHit>> collide_batch(const Scene& scene, const Mode
     scene_detail::close_items(s.tree, world_bounds(model, poses[i]), options.margin,
                               [&](std::uint32_t slot) { slots.push_back(slot); });
     std::sort(slots.begin(), slots.end(), [&](std::uint32_t x, std::uint32_t y) { return s.slots[x].id < s.slots[y].id; });
+    SceneObject query;
+    query.model = ModelPtr(ModelPtr(), &model);  // non-owning, for the call
+    query.pose = poses[i];
     std::vector<ObjectHit> hits;
     for (const std::uint32_t slot : slots) {
-      const SceneObject& obj = s.slots[slot].object;
-      QueryResult r = collide(*obj.model, obj.pose, model, poses[i], o, workspace);
+      QueryResult r = pair_collide(s.slots[slot].object, query, o, workspace);
       if (r.hit) hits.push_back({s.slots[slot].id, std::move(r)});
     }
     return hits;

@@ -45,6 +45,31 @@ std::string string_of(const Json& j, const std::string& where) {
   return j.get<std::string>();
 }
 
+double number_of(const Json& o, const char* key, const std::string& where) {
+  const Json& j = member(o, key, where);
+  if (!j.is_number()) throw InputError(where + "." + key + ": not a number");
+  return j.get<double>();
+}
+
+// An object's "shape" (with its sizes), the shape.hpp conventions.
+Shape shape_of(const Json& o, const std::string& where) {
+  const std::string kind = string_of(member(o, "shape", where), where + ".shape");
+  try {
+    if (kind == "sphere") return Sphere(number_of(o, "radius", where));
+    if (kind == "capsule") return Capsule(number_of(o, "radius", where), number_of(o, "length", where));
+    if (kind == "box") {
+      const Json& size = member(o, "size", where);
+      if (!size.is_array() || size.size() != 3 || !size[0].is_number() || !size[1].is_number() || !size[2].is_number())
+        throw InputError(where + ".size: three numbers [x, y, z] (full side lengths)");
+      return Box(size[0].get<double>(), size[1].get<double>(), size[2].get<double>());
+    }
+  } catch (const InputError& e) {
+    if (std::string(e.what()).starts_with(where)) throw;
+    throw InputError(where + ": " + e.what());
+  }
+  throw InputError(where + ".shape: unknown shape '" + kind + "' (sphere, box, capsule)");
+}
+
 }  // namespace
 
 std::vector<SceneFrame> load_scene_frames(const std::filesystem::path& path, const Scene& scene) {
@@ -122,10 +147,16 @@ SceneFile load_scene_file(const std::filesystem::path& path, const BuildOptions&
     SceneObject object;
     object.name = string_of(member(o, "name", where), where + ".name");
     if (object.name.empty()) throw InputError(where + ".name: empty");
-    const std::string model = string_of(member(o, "model", where), where + ".model");
-    const auto it = out.models.find(model);
-    if (it == out.models.end()) throw InputError(where + ".model: unknown model '" + model + "'");
-    object.model = it->second;
+    if (o.contains("model") == o.contains("shape"))
+      throw InputError(where + ": an object has either \"model\" or \"shape\"");
+    if (o.contains("shape")) {
+      object.shape = shape_of(o, where);
+    } else {
+      const std::string model = string_of(member(o, "model", where), where + ".model");
+      const auto it = out.models.find(model);
+      if (it == out.models.end()) throw InputError(where + ".model: unknown model '" + model + "'");
+      object.model = it->second;
+    }
     object.pose = json_pose(member(o, "pose", where), where + ".pose");
     if (out.scene.find(object.name)) throw InputError(where + ".name: duplicate name '" + object.name + "'");
     (void)out.scene.add(std::move(object));

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "../cli_runner.hpp"
+#include "tightbvh/scene_file.hpp"
 
 namespace tightbvh {
 namespace {
@@ -55,6 +56,23 @@ TEST(CliScene, TextAndErrors) {
   const test::CliRun bad = test::run_cli("scene " + f.scene());
   EXPECT_EQ(bad.status, 1);
   EXPECT_NE(bad.err.find("moves.txt:3: unknown object 'q'"), std::string::npos) << bad.err;
+}
+
+TEST(CliScene, ShapesInTheShippedArmScene) {
+  // examples/scenes/capsule-arm.json: a mesh part, a box table, capsule links, a sphere gripper.
+  // The CLI's pairs are the library's on the same file (the allowed pairs left out).
+  const std::string path = std::string(TIGHTBVH_SOURCE_DIR) + "/examples/scenes/capsule-arm.json";
+  const test::CliRun run = test::run_cli("scene " + test::shell_quote(path) + " --json --distance 0.3");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto j = nlohmann::json::parse(run.out);
+  const SceneFile file = load_scene_file(path);
+  nlohmann::json want = nlohmann::json::array();
+  for (const ObjectPairHit& hit : collide(file.scene))
+    want.push_back({file.scene.object(hit.a).name, file.scene.object(hit.b).name});
+  EXPECT_EQ(j["pairs"], want);
+  // The gripper holds the part; the upper arm stands on the table, exactly tangent.
+  EXPECT_EQ(j["pairs"], nlohmann::json::parse(R"([["part", "gripper"], ["table", "upper-arm"]])"));
+  EXPECT_EQ(j["closer"].size(), 3u);  // and the forearm passes 0.17 above the part
 }
 
 }  // namespace

@@ -1,0 +1,244 @@
+// Shapes in scenes: the shape–shape distance (closed forms, and against the shape–mesh query on a
+// box's triangles), scenes mixing models and shapes against every object pair, and shapes in
+// the scene file.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <utility>
+#include <variant>
+#include <random>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "scene_fixtures.hpp"
+#include "tightbvh/error.hpp"
+#include "tightbvh/scene.hpp"
+#include "tightbvh/scene_file.hpp"
+#include "tightbvh/shape.hpp"
+
+namespace tightbvh {
+namespace {
+
+using scene_test::random_pose;
+
+Pose at(double x, double y, double z) { return {Mat3::Identity(), Vec3(x, y, z)}; }
+
+Pose turned_about_z(double angle, const Vec3& t) {
+  return {Eigen::AngleAxisd(angle, Vec3::UnitZ()).toRotationMatrix(), t};
+}
+
+// The surface of Box(size) centered at the origin, outward triangles.
+Mesh box_mesh(const Vec3& size) {
+  Mesh m;
+  for (int i = 0; i < 8; ++i)
+    m.vertices.emplace_back((i & 1 ? 0.5 : -0.5) * size.x(), (i & 2 ? 0.5 : -0.5) * size.y(),
+                            (i & 4 ? 0.5 : -0.5) * size.z());
+  m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return m;
+}
+
+TEST(ShapePair, ClosedForms) {
+  const Shape ball = Sphere(1.0), rod = Capsule(0.5, 4.0), crate = Box(2.0, 2.0, 2.0);
+  EXPECT_DOUBLE_EQ(distance(ball, at(0, 0, 0), Shape(Sphere(0.5)), at(3, 0, 0)).distance, 1.5);
+  // Two capsules along z, side by side; crossed at right angles, one above the other.
+  EXPECT_DOUBLE_EQ(distance(rod, at(0, 0, 0), rod, at(2, 0, 0)).distance, 1.0);
+  const Pose lying{Eigen::AngleAxisd(M_PI / 2, Vec3::UnitX()).toRotationMatrix(), Vec3(0, 0, 4)};
+  EXPECT_NEAR(distance(rod, at(0, 0, 0), rod, lying).distance, 4.0 - 2.0 - 1.0, 1e-15);
+  // Sphere and box: off a face, off an edge, off a corner; a center inside the box is 0.
+  EXPECT_DOUBLE_EQ(distance(ball, at(3, 0, 0), crate, at(0, 0, 0)).distance, 1.0);
+  EXPECT_NEAR(distance(ball, at(3, 3, 0), crate, at(0, 0, 0)).distance, std::sqrt(8.0) - 1.0, 1e-15);
+  EXPECT_NEAR(distance(ball, at(3, 3, 3), crate, at(0, 0, 0)).distance, std::sqrt(12.0) - 1.0, 1e-15);
+  EXPECT_EQ(distance(Shape(Sphere(0.1)), at(0.2, 0.3, 0), crate, at(0, 0, 0)).distance, 0.0);
+  // Box and box: face to face, and one turned 45 degrees about z so that its edge faces the other.
+  EXPECT_DOUBLE_EQ(distance(crate, at(0, 0, 0), crate, at(3, 0, 0)).distance, 1.0);
+  EXPECT_NEAR(distance(crate, at(0, 0, 0), crate, turned_about_z(M_PI / 4, Vec3(4, 0, 0))).distance,
+              4.0 - 1.0 - std::sqrt(2.0), 1e-15);
+  // Nested: a small box wholly inside, no surfaces touching.
+  EXPECT_EQ(distance(crate, at(0, 0, 0), Shape(Box(0.2, 0.2, 0.2)), at(0.1, 0, 0)).distance, 0.0);
+  // A capsule through the box without an end inside: its axis crosses two faces.
+  EXPECT_EQ(distance(Shape(Capsule(0.01, 10.0)), at(0.5, 0.5, 0), crate, at(0, 0, 0)).distance, 0.0);
+  // The points: on each shape, that far apart.
+  const ShapePairDistance d = distance(ball, at(3, 3, 0), crate, at(0, 0, 0));
+  EXPECT_NEAR((d.point_a - Vec3(3, 3, 0)).norm(), 1.0, 1e-15);
+  EXPECT_NEAR((d.point_b - Vec3(1, 1, 0)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR((d.point_a - d.point_b).norm(), d.distance, 1e-15);
+  EXPECT_THROW((void)distance(ball, Pose{Mat3::Zero(), Vec3::Zero()}, crate, at(0, 0, 0)), InputError);
+}
+
+TEST(ShapePair, AgreesWithTheShapeQueryOnTheBoxSurface) {
+  // A box as a solid shape and as its 12 triangles: where the mesh route says apart, the two
+  // distances agree; where the solids touch, the pair says 0.
+  std::mt19937_64 rng(17);
+  const Vec3 size(1.0, 0.6, 0.4);
+  const ModelPtr surface = make_model(box_mesh(size));
+  const Shape box = Box(size);
+  int apart = 0, touching = 0;
+  for (int i = 0; i < 300; ++i) {
+    const Pose pb = random_pose(rng, 1.5), pa = random_pose(rng, 1.5);
+    for (const Shape& a : {Shape(Sphere(0.3)), Shape(Capsule(0.2, 0.7)), Shape(Box(0.5, 0.3, 0.8))}) {
+      const ShapePairDistance pair = distance(a, pa, box, pb);
+      const ShapeDistanceResult mesh =
+          std::visit([&](const auto& s) { return distance(s, pa, *surface, pb); }, a);
+      if (mesh.distance > 0.0) {
+        EXPECT_NEAR(pair.distance, mesh.distance, 1e-12 * (1.0 + mesh.distance)) << i << " " << shape_name(a);
+        ++apart;
+      } else {
+        EXPECT_EQ(pair.distance, 0.0) << i << " " << shape_name(a);
+        ++touching;
+      }
+    }
+  }
+  EXPECT_GT(apart, 100);
+  EXPECT_GT(touching, 50);
+}
+
+// Every pair of a scene of models and shapes, by the pair queries directly.
+struct Expected {
+  std::vector<std::pair<ObjectId, ObjectId>> hits;
+  double nearest = std::numeric_limits<double>::infinity();
+};
+
+Expected every_pair(const Scene& scene, double margin) {
+  Expected e;
+  const std::vector<ObjectId> ids = scene.ids();
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    for (std::size_t j = i + 1; j < ids.size(); ++j) {
+      const SceneObject& a = scene.object(ids[i]);
+      const SceneObject& b = scene.object(ids[j]);
+      double d = 0.0;
+      bool hit = false;
+      if (a.model && b.model) {
+        d = distance(*a.model, a.pose, *b.model, b.pose).distance;
+        hit = collide(*a.model, a.pose, *b.model, b.pose, {.margin = margin}).hit;
+      } else if (a.shape && b.shape) {
+        d = distance(*a.shape, a.pose, *b.shape, b.pose).distance;
+        hit = d <= margin;
+      } else {
+        const SceneObject& s = a.shape ? a : b;
+        const SceneObject& m = a.shape ? b : a;
+        std::visit(
+            [&](const auto& shape) {
+              d = distance(shape, s.pose, *m.model, m.pose).distance;
+              hit = collide(shape, s.pose, *m.model, m.pose, {.margin = margin}).hit;
+            },
+            *s.shape);
+      }
+      if (hit) e.hits.emplace_back(ids[i], ids[j]);
+      e.nearest = std::min(e.nearest, d);
+    }
+  return e;
+}
+
+TEST(SceneShapes, MixedSceneEqualsEveryPair) {
+  std::mt19937_64 rng(23);
+  const std::vector<ModelPtr> models = scene_test::mixed_models();
+  const std::vector<Shape> shapes{Sphere(0.25), Capsule(0.1, 0.8), Box(0.4, 0.3, 0.6)};
+  int shape_model_hits = 0, shape_shape_hits = 0;
+  for (int round = 0; round < 6; ++round) {
+    Scene scene;
+    for (int k = 0; k < 12; ++k) {
+      if (k % 2 == 0)
+        (void)scene.add(models[static_cast<std::size_t>(k / 2) % models.size()], random_pose(rng, 3.0));
+      else
+        (void)scene.add(shapes[static_cast<std::size_t>(k / 2) % shapes.size()], random_pose(rng, 3.0));
+    }
+    for (const double margin : {0.0, 0.1}) {
+      const Expected want = every_pair(scene, margin);
+      std::vector<std::pair<ObjectId, ObjectId>> got;
+      for (const ObjectPairHit& h : collide(scene, {.mode = QueryMode::all_pairs, .margin = margin}, 2)) {
+        got.emplace_back(h.a, h.b);
+        const bool a_is_shape = scene.object(h.a).shape.has_value(), b_is_shape = scene.object(h.b).shape.has_value();
+        shape_model_hits += a_is_shape != b_is_shape;
+        shape_shape_hits += a_is_shape && b_is_shape;
+        for (const TrianglePair& p : h.result.pairs) {  // the shape side's index is 0
+          if (a_is_shape) EXPECT_EQ(p.a, 0u);
+          if (b_is_shape) EXPECT_EQ(p.b, 0u);
+        }
+      }
+      EXPECT_EQ(got, want.hits) << "round " << round << " margin " << margin;
+      if (margin == 0.0) {
+        const auto nearest = distance(scene);
+        ASSERT_TRUE(nearest.has_value());
+        EXPECT_EQ(nearest->result.distance, want.nearest);
+        const SceneObject& a = scene.object(nearest->a);
+        const SceneObject& b = scene.object(nearest->b);
+        EXPECT_NEAR((nearest->result.point_a - nearest->result.point_b).norm(), nearest->result.distance, 1e-12);
+        EXPECT_NEAR((a.pose.apply(nearest->result.point_a_local) - nearest->result.point_a).norm(), 0.0, 1e-12);
+        EXPECT_NEAR((b.pose.apply(nearest->result.point_b_local) - nearest->result.point_b).norm(), 0.0, 1e-12);
+      }
+    }
+    // Moves: the pair cache follows shapes as it follows models.
+    for (const ObjectId id : scene.ids()) scene.set_pose(id, random_pose(rng, 3.0));
+    EXPECT_EQ(collide(scene, {.mode = QueryMode::all_pairs}).size(), every_pair(scene, 0.0).hits.size());
+  }
+  EXPECT_GT(shape_model_hits, 5);  // the scenes are dense enough to test every kind of pair
+  EXPECT_GT(shape_shape_hits, 2);
+}
+
+TEST(SceneShapes, AddNeedsAModelOrAShape) {
+  Scene scene;
+  EXPECT_THROW((void)scene.add(SceneObject{}), InputError);
+  SceneObject both;
+  both.model = make_model(scene_test::tetrahedron());
+  both.shape = Sphere(1.0);
+  EXPECT_THROW((void)scene.add(both), InputError);
+  const ObjectId ball = scene.add(Shape(Sphere(0.5)), at(1, 2, 3), "ball");
+  const Aabb box = scene.world_bounds(ball);
+  EXPECT_NEAR(box.min.x(), 0.5, 1e-8);
+  EXPECT_NEAR(box.max.z(), 3.5, 1e-8);
+  EXPECT_EQ(scene.model_count(), 0u);
+}
+
+TEST(SceneShapes, SceneFileTakesShapes) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("tightbvh_scene_shapes_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const auto write = [&](const std::string& text) {
+    std::ofstream(dir / "scene.json") << text;
+    return dir / "scene.json";
+  };
+  const std::string pose0 = R"("pose": [1,0,0, 0,1,0, 0,0,1, 0,0,0])";
+  const std::string pose1 = R"("pose": [1,0,0, 0,1,0, 0,0,1, 1.4,0,0])";
+  const SceneFile f = load_scene_file(write(R"({"models": {}, "objects": [
+      {"name": "ball", "shape": "sphere", "radius": 0.5, )" + pose0 + R"(},
+      {"name": "crate", "shape": "box", "size": [1, 2, 3], )" + pose1 + R"(},
+      {"name": "link", "shape": "capsule", "radius": 0.1, "length": 2, "pose": [1,0,0, 0,1,0, 0,0,1, 0,0,5]}]})"));
+  ASSERT_EQ(f.scene.size(), 3u);
+  EXPECT_EQ(shape_name(*f.scene.object(*f.scene.find("crate")).shape), std::string("box"));
+  const auto hits = collide(f.scene);
+  EXPECT_TRUE(hits.empty());  // ball (to x = 0.5) and crate (from x = 0.9): 0.4 apart
+  const auto nearest = distance(f.scene);
+  ASSERT_TRUE(nearest.has_value());
+  EXPECT_NEAR(nearest->result.distance, 0.4, 1e-15);
+
+  const auto error_of = [&](const std::string& objects) -> std::string {
+    try {
+      (void)load_scene_file(write(R"({"models": {}, "objects": [)" + objects + "]}"));
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_NE(error_of(R"({"name": "a", "shape": "cone", "radius": 1, )" + pose0 + "}").find(
+                "objects[0].shape: unknown shape 'cone'"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"name": "a", "shape": "sphere", "radius": -1, )" + pose0 + "}").find("objects[0]: "),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"name": "a", "shape": "sphere", )" + pose0 + "}").find("objects[0]: missing \"radius\""),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"name": "a", "shape": "box", "size": [1, 2], )" + pose0 + "}").find("objects[0].size: three"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"name": "a", "shape": "sphere", "radius": 1, "model": "m", )" + pose0 + "}")
+                .find("either \"model\" or \"shape\""),
+            std::string::npos);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace tightbvh

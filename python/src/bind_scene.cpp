@@ -15,6 +15,7 @@
 #include <string>
 #include <unordered_map>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "arrays.hpp"
@@ -23,6 +24,7 @@
 #include "tightbvh/model.hpp"
 #include "tightbvh/scene.hpp"
 #include "tightbvh/serialize.hpp"
+#include "tightbvh/shape.hpp"
 #include "tightbvh/tri_distance.hpp"
 
 namespace tightbvh::python {
@@ -85,7 +87,7 @@ PyModel model_from_state(const py::object& state) {
 // A touching triangle pair of two objects (trimesh's ContactData, without normal and depth).
 struct PyContact {
   std::string name_a, name_b;
-  std::uint32_t triangle_a = 0, triangle_b = 0;
+  std::optional<std::uint32_t> triangle_a, triangle_b;  // none for a shape
   Vec3 point = Vec3::Zero();
 };
 
@@ -98,24 +100,23 @@ struct PyDistanceData {
   double distance = 0.0;
 };
 
-// State: (name_a, name_b, triangle_a, triangle_b, point).
+// A triangle of the state, or None.
+std::optional<std::uint32_t> state_triangle(py::handle value, const std::string& what) {
+  if (value.is_none()) return std::nullopt;
+  return static_cast<std::uint32_t>(state_count(value, what, 0xFFFFFFFFu));
+}
+
+// State: (name_a, name_b, triangle_a or None, triangle_b or None, point).
 py::object contact_state(const PyContact& c) {
-  return py::make_tuple(c.name_a, c.name_b, c.triangle_a, c.triangle_b, vec3_state(c.point));
+  return py::make_tuple(c.name_a, c.name_b, py::cast(c.triangle_a), py::cast(c.triangle_b), vec3_state(c.point));
 }
 
 PyContact contact_from_state(const py::object& state) {
   const py::tuple f = state_tuple(state, 5, "ContactData");
   const std::string what = "ContactData.__setstate__";
   return {state_string(f[0], what + ": name_a"), state_string(f[1], what + ": name_b"),
-          static_cast<std::uint32_t>(state_count(f[2], what + ": triangle_a", 0xFFFFFFFFu)),
-          static_cast<std::uint32_t>(state_count(f[3], what + ": triangle_b", 0xFFFFFFFFu)),
+          state_triangle(f[2], what + ": triangle_a"), state_triangle(f[3], what + ": triangle_b"),
           state_vec3(f[4], what + ": point")};
-}
-
-// A triangle of the state, or None.
-std::optional<std::uint32_t> state_triangle(py::handle value, const std::string& what) {
-  if (value.is_none()) return std::nullopt;
-  return static_cast<std::uint32_t>(state_count(value, what, 0xFFFFFFFFu));
 }
 
 // State: (name_a, name_b, triangle_a or None, triangle_b or None, point_a, point_b, distance).
@@ -164,6 +165,17 @@ Vec3 contact_point(const Model& ma, const Pose& pa, std::uint32_t ta, const Mode
       .point_p;
 }
 
+// A point where the shape object `s` touches triangle t of (model, pose): the shape query on that
+// one triangle, whose points are then one point of the triangle inside the shape (shape.hpp).
+Vec3 shape_contact_point(const SceneObject& s, const Model& model, const Pose& pose, std::uint32_t t) {
+  const auto c = model.mesh().corners(t);
+  Mesh single;
+  single.vertices = {c[0], c[1], c[2]};
+  single.triangles = {{0, 1, 2}};
+  return std::visit([&](const auto& shape) { return distance_brute_force(shape, s.pose, single, pose).point_mesh; },
+                    *s.shape);
+}
+
 // trimesh's return shapes: x, (x, names), (x, data) or (x, names, data).
 py::object shaped(py::object value, bool return_names, py::object names, bool return_data, py::object data) {
   if (return_names && return_data) return py::make_tuple(value, names, data);
@@ -182,6 +194,10 @@ class PyScene {
     const Pose pose = to_pose(transform, "transform");
     const std::uint32_t group_bits = filter_bits(group, "add_object: group");
     const std::uint32_t mask_bits = filter_bits(mask, "add_object: mask");
+    if (const std::optional<ShapeAt> shape = shape_at(mesh, pose)) {
+      if (const auto old = scene_.find(name)) remove(*old);
+      return scene_.add(SceneObject{nullptr, shape->pose, group_bits, mask_bits, name, shape->shape});
+    }
     const auto [model, key] = object_model(mesh);
     if (key) ++uses_[*key];  // before any removal, so replacing an object by its own mesh keeps the model
     ObjectId id = 0;
@@ -312,7 +328,7 @@ class PyScene {
     const SceneObject& b = scene_.object(d->b);
     const py::object names = a.name < b.name ? py::make_tuple(a.name, b.name) : py::make_tuple(b.name, a.name);
     return shaped(py::float_(d->result.distance), return_names, names, return_data,
-                  distance_data(a.name, b.name, d->result));
+                  distance_data(a.name, b.name, d->result, a.shape.has_value(), b.shape.has_value()));
   }
 
   py::object min_distance_single(py::handle mesh, py::handle transform, bool return_name, bool return_data) {
@@ -326,7 +342,7 @@ class PyScene {
     if (!d) return shaped(py::float_(inf()), return_name, py::none(), return_data, py::none());
     const std::string& name = scene_.object(d->id).name;
     return shaped(py::float_(d->result.distance), return_name, py::str(name), return_data,
-                  distance_data(name, kExternal, d->result));
+                  distance_data(name, kExternal, d->result, scene_.object(d->id).shape.has_value(), false));
   }
 
   py::object min_distance_other(const PyScene& other, bool return_names, bool return_data) const {
@@ -340,7 +356,8 @@ class PyScene {
     const std::string& a = scene_.object(d->a).name;
     const std::string& b = other.scene_.object(d->b).name;
     return shaped(py::float_(d->result.distance), return_names, py::make_tuple(a, b), return_data,
-                  distance_data(a, b, d->result));
+                  distance_data(a, b, d->result, scene_.object(d->a).shape.has_value(),
+                                 other.scene_.object(d->b).shape.has_value()));
   }
 
   // Every pair closer than max_distance: {key: distance}, with return_data also {key: DistanceData};
@@ -357,7 +374,8 @@ class PyScene {
       const std::string& b = scene_.object(d.b).name;
       const py::tuple key = a < b ? py::make_tuple(a, b) : py::make_tuple(b, a);
       distances[key] = d.result.distance;
-      if (return_data) data[key] = distance_data(a, b, d.result);
+      if (return_data) data[key] = distance_data(a, b, d.result, scene_.object(d.a).shape.has_value(),
+                                                         scene_.object(d.b).shape.has_value());
     }
     return return_data ? py::object(py::make_tuple(distances, data)) : py::object(distances);
   }
@@ -375,7 +393,7 @@ class PyScene {
     for (const ObjectDistance& d : found) {
       const std::string& name = scene_.object(d.id).name;
       distances[py::str(name)] = d.result.distance;
-      if (return_data) data[py::str(name)] = distance_data(name, kExternal, d.result);
+      if (return_data) data[py::str(name)] = distance_data(name, kExternal, d.result, scene_.object(d.id).shape.has_value(), false);
     }
     return return_data ? py::object(py::make_tuple(distances, data)) : py::object(distances);
   }
@@ -394,7 +412,8 @@ class PyScene {
       const std::string& b = other.scene_.object(d.b).name;
       const py::tuple key = py::make_tuple(a, b);
       distances[key] = d.result.distance;
-      if (return_data) data[key] = distance_data(a, b, d.result);
+      if (return_data) data[key] = distance_data(a, b, d.result, scene_.object(d.a).shape.has_value(),
+                                                         other.scene_.object(d.b).shape.has_value());
     }
     return return_data ? py::object(py::make_tuple(distances, data)) : py::object(distances);
   }
@@ -436,9 +455,13 @@ class PyScene {
     return m;
   }
 
-  PyModel model(py::handle name) const { return {scene_.object(id_of(name, "model")).model, std::nullopt}; }
+  PyModel model(py::handle name) const {
+    const SceneObject& o = scene_.object(id_of(name, "model"));
+    if (!o.model) throw py::value_error("model: '" + o.name + "' is a shape, not a model");
+    return {o.model, std::nullopt};
+  }
 
-  // State: (threads, solid, objects: ((name, Model, 4x4 transform, group, mask), ...) in id order,
+  // State: (threads, solid, objects: ((name, Model or shape, 4x4 transform, group, mask), ...) in id order,
   // allowed: ((name, name), ...)); an object of 3 fields has the default filter bits. A model
   // shared by objects is one Python object in the state, so it stays shared. The mesh cache is not part of it: after unpickling, adding an original mesh
   // object again builds its model again.
@@ -447,6 +470,11 @@ class PyScene {
     py::list objects;
     for (const ObjectId id : scene_.ids()) {
       const SceneObject& o = scene_.object(id);
+      if (o.shape) {  // the shape itself in place of the model
+        const py::object shape = std::visit([](const auto& s) { return py::cast(s); }, *o.shape);
+        objects.append(py::make_tuple(o.name, shape, transform(py::str(o.name)), o.group, o.mask));
+        continue;
+      }
       auto [it, added] = models.try_emplace(o.model.get());
       if (added) it->second = py::cast(PyModel{o.model, std::nullopt});
       objects.append(py::make_tuple(o.name, it->second, transform(py::str(o.name)), o.group, o.mask));
@@ -466,10 +494,14 @@ class PyScene {
       const bool filtered = py::isinstance<py::tuple>(object) && py::len(object) == 5;
       const py::tuple o = state_tuple(object, filtered ? 5 : 3, "Scene object");
       const std::string name = state_string(o[0], what + ": name");
-      if (!py::isinstance<PyModel>(o[1])) throw py::type_error(what + ": '" + name + "': the model must be a Model");
+      const Pose pose = to_pose(o[2], what + ": '" + name + "': transform");
+      const bool is_model = py::isinstance<PyModel>(o[1]);
+      const bool is_shape = py::isinstance<Sphere>(o[1]) || py::isinstance<Box>(o[1]) || py::isinstance<Capsule>(o[1]);
+      if (!is_model && !is_shape)
+        throw py::type_error(what + ": '" + name + "': the model must be a Model or a tightbvh.shapes shape");
       if (result.scene_.find(name)) throw py::value_error(what + ": duplicate name '" + name + "'");
-      SceneObject added{o[1].cast<const PyModel&>().model, to_pose(o[2], what + ": '" + name + "': transform"), 1,
-                        kAllGroups, name};
+      SceneObject added{is_model ? o[1].cast<const PyModel&>().model : nullptr, pose, 1, kAllGroups, name};
+      if (is_shape) added.shape = shape_at(o[1], pose)->shape;
       if (filtered) {
         added.group = static_cast<std::uint32_t>(state_count(o[3], what + ": '" + name + "': group", kAllGroups));
         added.mask = static_cast<std::uint32_t>(state_count(o[4], what + ": '" + name + "': mask", kAllGroups));
@@ -579,16 +611,30 @@ class PyScene {
 
   static void add_contacts(py::list& data, const SceneObject& a, const std::string& name_a, const SceneObject& b,
                            const std::string& name_b, const QueryResult& result) {
-    for (const TrianglePair& pair : result.pairs)
-      data.append(PyContact{name_a, name_b, pair.a, pair.b,
-                            contact_point(*a.model, a.pose, pair.a, *b.model, b.pose, pair.b)});
+    if (a.shape && b.shape) {  // no triangles: one point of both shapes
+      data.append(PyContact{name_a, name_b, std::nullopt, std::nullopt,
+                            distance(*a.shape, a.pose, *b.shape, b.pose).point_a});
+      return;
+    }
+    for (const TrianglePair& pair : result.pairs) {
+      if (a.model && b.model) {
+        data.append(PyContact{name_a, name_b, pair.a, pair.b,
+                              contact_point(*a.model, a.pose, pair.a, *b.model, b.pose, pair.b)});
+      } else if (a.shape) {
+        data.append(PyContact{name_a, name_b, std::nullopt, pair.b, shape_contact_point(a, *b.model, b.pose, pair.b)});
+      } else {
+        data.append(PyContact{name_a, name_b, pair.a, std::nullopt, shape_contact_point(b, *a.model, a.pose, pair.a)});
+      }
+    }
   }
 
-  static py::object distance_data(const std::string& a, const std::string& b, const DistanceResult& r) {
+  // A shape's side has no triangle (None).
+  static py::object distance_data(const std::string& a, const std::string& b, const DistanceResult& r, bool shape_a,
+                                  bool shape_b) {
     PyDistanceData d{a, b, std::nullopt, std::nullopt, r.point_a, r.point_b, r.distance};
     if (r.inside == Inside::none) {
-      d.triangle_a = r.pair.a;
-      d.triangle_b = r.pair.b;
+      if (!shape_a) d.triangle_a = r.pair.a;
+      if (!shape_b) d.triangle_b = r.pair.b;
     }
     return py::cast(std::move(d));
   }
@@ -645,18 +691,20 @@ void bind_scene(py::module_& m) {
       .def_property_readonly("names", [](const PyContact& c) { return name_set(c.name_a, c.name_b); })
       .def_property_readonly("point", [](const PyContact& c) { return to_array(c.point); },
                              "a world point where the two triangles touch")
-      .def_property_readonly("triangles", [](const PyContact& c) { return py::make_tuple(c.triangle_a, c.triangle_b); })
+      .def_property_readonly("triangles",
+                             [](const PyContact& c) { return py::make_tuple(py::cast(c.triangle_a), py::cast(c.triangle_b)); })
       .def(
           "index",
           [](const PyContact& c, const std::string& name) {
             return of_name(name, c.name_a, c.triangle_a, c.name_b, c.triangle_b);
           },
-          py::arg("name"), "the touching triangle of the object `name`")
+          py::arg("name"), "the touching triangle of the object `name` (None for a shape)")
       .def("__reduce_ex__", &reduce_ex)
       .def(py::pickle(&contact_state, &contact_from_state))
       .def("__repr__", [](const PyContact& c) {
-        return "<tightbvh.ContactData " + c.name_a + "[" + std::to_string(c.triangle_a) + "] " + c.name_b + "[" +
-               std::to_string(c.triangle_b) + "]>";
+        const auto index = [](const std::optional<std::uint32_t>& t) { return t ? std::to_string(*t) : "shape"; };
+        return "<tightbvh.ContactData " + c.name_a + "[" + index(c.triangle_a) + "] " + c.name_b + "[" +
+               index(c.triangle_b) + "]>";
       });
 
   py::class_<PyDistanceData>(m, "DistanceData",
@@ -694,7 +742,8 @@ void bind_scene(py::module_& m) {
       .def("add_object", &PyScene::add_object, py::arg("name"), py::arg("mesh"), py::arg("transform") = py::none(),
            py::arg("group") = 1, py::arg("mask") = kAllGroups,
            "Adds (or, as trimesh, replaces) the object `name`: a Model, a Mesh or anything with .vertices and "
-           ".faces, at `transform` (4x4, (R, t) or None), with collision filter bits `group` and `mask` (two "
+           ".faces, or a shape (tightbvh.shapes.Sphere, Box, Capsule, or a fitted tightbvh.Box, placed where it was "
+           "fitted and moved by the transform), at `transform` (4x4, (R, t) or None), with collision filter bits `group` and `mask` (two "
            "objects are tested only when each one's group meets the other's mask). Returns the object's id.")
       .def("set_filter", &PyScene::set_filter, py::arg("name"), py::arg("group"), py::arg("mask"),
            "Sets the object's collision filter bits (ints in [0, 2**32)): a pair is tested only when "

@@ -14,33 +14,16 @@
 
 #include "arrays.hpp"
 #include "bindings.hpp"
+#include "state.hpp"
 #include "tightbvh/error.hpp"
 #include "tightbvh/shape.hpp"
 
 namespace tightbvh::python {
 namespace {
 
-using AnyShape = std::variant<Sphere, Box, Capsule>;
-
-struct PosedShape {
-  AnyShape shape;
-  Pose pose;  // shape frame to world
-};
-
-// The shape a Python argument holds, at the pose `pose_object` gives; a fitted tightbvh.Box (an
-// Obb) is the box of its side lengths placed at its center and axes, then moved by that pose.
-// TypeError naming "shape" for anything else.
-[[nodiscard]] PosedShape to_shape(py::handle object, py::handle pose_object) {
-  const Pose pose = to_pose(pose_object, "shape_pose");
-  if (py::isinstance<Sphere>(object)) return {object.cast<Sphere>(), pose};
-  if (py::isinstance<Box>(object)) return {object.cast<Box>(), pose};
-  if (py::isinstance<Capsule>(object)) return {object.cast<Capsule>(), pose};
-  if (py::isinstance<Obb>(object)) {
-    const Obb fitted = object.cast<Obb>();
-    if (fitted.axes.determinant() < 0.0)
-      throw py::value_error("shape: the fitted Box's axes are not right-handed (determinant < 0)");
-    return {Box(2.0 * fitted.half_extents), Pose{pose.rotation * fitted.axes, pose.apply(fitted.center)}};
-  }
+// The shape argument of collide_shape / distance_shape: TypeError for anything but a shape.
+[[nodiscard]] ShapeAt to_shape(py::handle object, py::handle pose_object) {
+  if (auto s = shape_at(object, to_pose(pose_object, "shape_pose"))) return *s;
   throw py::type_error("shape must be a tightbvh.shapes.Sphere, Box or Capsule, or a fitted tightbvh.Box, got " +
                        py::str(py::type::of(object).attr("__name__")).cast<std::string>());
 }
@@ -60,7 +43,7 @@ struct PyShapeResult {
 
 PyShapeResult collide_shape_py(py::handle shape, py::handle shape_pose, const PyModel& model, py::handle model_pose,
                                bool all_pairs, double margin) {
-  const PosedShape s = to_shape(shape, shape_pose);
+  const ShapeAt s = to_shape(shape, shape_pose);
   const Pose pm = to_pose(model_pose, "model_pose");
   QueryOptions options;
   options.mode = all_pairs ? QueryMode::all_pairs : QueryMode::first_hit;
@@ -79,7 +62,7 @@ PyShapeResult collide_shape_py(py::handle shape, py::handle shape_pose, const Py
 ShapeDistanceResult distance_shape_py(py::handle shape, py::handle shape_pose, const PyModel& model,
                                       py::handle model_pose, double absolute_error, double relative_error,
                                       double upper_bound) {
-  const PosedShape s = to_shape(shape, shape_pose);
+  const ShapeAt s = to_shape(shape, shape_pose);
   const Pose pm = to_pose(model_pose, "model_pose");
   DistanceOptions options;
   options.absolute_error = absolute_error;
@@ -95,7 +78,60 @@ py::object point_or_none(const ShapeDistanceResult& r, const Vec3& p) {
   return to_array(p);
 }
 
+// States for pickling (state.hpp): every field, checked on the way back.
+py::object shape_result_state(const PyShapeResult& r) {
+  return py::make_tuple(r.hit, r.triangles.attr("copy")(), r.stats.box_tests, r.stats.triangle_tests);
+}
+
+PyShapeResult shape_result_from_state(const py::object& state) {
+  const py::tuple f = state_tuple(state, 4, "ShapeResult");
+  const std::string what = "ShapeResult.__setstate__";
+  PyShapeResult r;
+  r.hit = state_bool(f[0], what + ": hit");
+  if (!py::isinstance<py::array>(f[1])) throw py::type_error(what + ": triangles must be a NumPy array");
+  const py::array triangles = py::reinterpret_borrow<py::array>(f[1]);
+  if (triangles.dtype().kind() != 'i' || triangles.dtype().itemsize() != 8 || triangles.ndim() != 1)
+    throw py::type_error(what + ": triangles must be a 1-D int64 array");
+  r.triangles = py::array_t<std::int64_t>::ensure(triangles.attr("copy")());
+  r.stats.box_tests = state_count(f[2], what + ": box_tests");
+  r.stats.triangle_tests = state_count(f[3], what + ": triangle_tests");
+  return r;
+}
+
+py::object shape_distance_state(const ShapeDistanceResult& r) {
+  return py::make_tuple(r.distance, r.intersecting, r.beyond_upper_bound, r.triangle, vec3_state(r.point_shape),
+                        vec3_state(r.point_mesh), r.stats.node_pairs, r.stats.triangle_pairs);
+}
+
+ShapeDistanceResult shape_distance_from_state(const py::object& state) {
+  const py::tuple f = state_tuple(state, 8, "ShapeDistance");
+  const std::string what = "ShapeDistance.__setstate__";
+  ShapeDistanceResult r;
+  r.distance = state_real(f[0], what + ": distance");
+  r.intersecting = state_bool(f[1], what + ": intersecting");
+  r.beyond_upper_bound = state_bool(f[2], what + ": beyond_upper_bound");
+  r.triangle = static_cast<std::uint32_t>(state_count(f[3], what + ": triangle", 0xFFFFFFFFu));
+  r.point_shape = state_vec3(f[4], what + ": point_shape");
+  r.point_mesh = state_vec3(f[5], what + ": point_mesh");
+  r.stats.node_pairs = state_count(f[6], what + ": node_pairs");
+  r.stats.triangle_pairs = state_count(f[7], what + ": triangle_pairs");
+  return r;
+}
+
 }  // namespace
+
+std::optional<ShapeAt> shape_at(py::handle object, const Pose& pose) {
+  if (py::isinstance<Sphere>(object)) return ShapeAt{object.cast<Sphere>(), pose};
+  if (py::isinstance<Box>(object)) return ShapeAt{object.cast<Box>(), pose};
+  if (py::isinstance<Capsule>(object)) return ShapeAt{object.cast<Capsule>(), pose};
+  if (py::isinstance<Obb>(object)) {
+    const Obb fitted = object.cast<Obb>();
+    if (fitted.axes.determinant() < 0.0)
+      throw py::value_error("shape: the fitted Box's axes are not right-handed (determinant < 0)");
+    return ShapeAt{Box(2.0 * fitted.half_extents), Pose{pose.rotation * fitted.axes, pose.apply(fitted.center)}};
+  }
+  return std::nullopt;
+}
 
 void bind_shapes(py::module_& m) {
   py::module_ shapes = m.def_submodule(
@@ -104,6 +140,11 @@ void bind_shapes(py::module_& m) {
   py::class_<Sphere>(shapes, "Sphere", "A solid sphere centered at the origin of its frame (FCL's Sphere).")
       .def(py::init<double>(), py::arg("radius"), "ValueError unless radius is positive and finite.")
       .def_readonly("radius", &Sphere::radius)
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle([](const Sphere& s) -> py::object { return py::make_tuple(s.radius); },
+                      [](const py::object& state) {
+                        return Sphere(state_real(state_tuple(state, 1, "Sphere")[0], "Sphere.__setstate__: radius"));
+                      }))
       .def("__repr__", [](const Sphere& s) { return "tightbvh.shapes.Sphere(radius=" + number(s.radius) + ")"; });
 
   py::class_<Box>(shapes, "Box",
@@ -120,6 +161,9 @@ void bind_shapes(py::module_& m) {
            py::arg("extents"), "The box of these three side lengths ((3,) array-like).")
       .def_property_readonly("extents", [](const Box& b) { return to_array(b.size); },
                              "the full side lengths along x, y, z, (3,) float64")
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle([](const Box& b) -> py::object { return vec3_state(b.size); },
+                      [](const py::object& state) { return Box(state_vec3(state, "Box.__setstate__: extents")); }))
       .def("__repr__", [](const Box& b) {
         return "tightbvh.shapes.Box(" + number(b.size.x()) + ", " + number(b.size.y()) + ", " + number(b.size.z()) + ")";
       });
@@ -131,6 +175,13 @@ void bind_shapes(py::module_& m) {
            "ValueError unless both are positive and finite.")
       .def_readonly("radius", &Capsule::radius)
       .def_readonly("length", &Capsule::length)
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle([](const Capsule& c) -> py::object { return py::make_tuple(c.radius, c.length); },
+                      [](const py::object& state) {
+                        const py::tuple f = state_tuple(state, 2, "Capsule");
+                        return Capsule(state_real(f[0], "Capsule.__setstate__: radius"),
+                                       state_real(f[1], "Capsule.__setstate__: length"));
+                      }))
       .def("__repr__", [](const Capsule& c) {
         return "tightbvh.shapes.Capsule(radius=" + number(c.radius) + ", length=" + number(c.length) + ")";
       });
@@ -147,6 +198,8 @@ void bind_shapes(py::module_& m) {
                                d["triangle_tests"] = r.stats.triangle_tests;
                                return d;
                              })
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle(&shape_result_state, &shape_result_from_state))
       .def("__repr__", [](const PyShapeResult& r) {
         return "<tightbvh.ShapeResult hit=" + std::string(r.hit ? "True" : "False") +
                " triangles=" + std::to_string(r.triangles.size()) + ">";
@@ -176,6 +229,8 @@ void bind_shapes(py::module_& m) {
                                d["triangle_pairs"] = r.stats.triangle_pairs;
                                return d;
                              })
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle(&shape_distance_state, &shape_distance_from_state))
       .def("__repr__", [](const ShapeDistanceResult& r) {
         return "<tightbvh.ShapeDistance distance=" + number(r.distance) + ">";
       });

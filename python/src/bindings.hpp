@@ -11,6 +11,7 @@
 #include "tightbvh/build.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/model.hpp"
+#include "tightbvh/shape.hpp"
 #include "tightbvh/tree.hpp"
 
 namespace tightbvh::python {
@@ -37,6 +38,15 @@ struct PyModel {
 // BuildOptions from tightbvh.build's keyword arguments (ValueError/TypeError naming the argument).
 [[nodiscard]] BuildOptions build_options(const std::string& fitter, const std::string& split, py::handle leaf_size,
                                          py::handle threads, py::handle grid, py::handle epsilon, bool improve);
+
+// A shape argument at `pose` (bind_shapes.cpp): a tightbvh.shapes Sphere, Box or Capsule at
+// `pose`, or a fitted tightbvh.Box placed where it was fitted and then moved by `pose`; none for
+// anything else.
+struct ShapeAt {
+  Shape shape;
+  Pose pose;
+};
+[[nodiscard]] std::optional<ShapeAt> shape_at(py::handle object, const Pose& pose);
 
 void bind_mesh(py::module_& m);
 void bind_fit(py::module_& m);

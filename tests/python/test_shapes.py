@@ -100,3 +100,42 @@ def test_shapes_and_bad_input(elephant_model):
         tightbvh.collide_shape(Sphere(1), np.full((4, 4), np.nan), elephant_model)
     with pytest.raises(ValueError, match="margin"):
         tightbvh.collide_shape(Sphere(1), None, elephant_model, margin=-1.0)
+
+
+def test_shapes_in_a_scene(elephant, elephant_model):
+    import pickle
+
+    scene = tightbvh.Scene()
+    scene.add_object("elephant", elephant_model)
+    top = elephant.vertices[np.argmax(elephant.vertices[:, 2])]
+    scene.add_object("ball", Sphere(0.05), translation(*(top + [0, 0, 0.04])))  # dips into the mesh
+    scene.add_object("rod", Capsule(0.02, 0.5), translation(*(top + [0, 0, 0.3])))  # touches the ball
+    scene.add_object("crate", Box(0.2, 0.2, 0.2), translation(5, 5, 5))  # far from all
+    hit, names, data = scene.in_collision_internal(return_names=True, return_data=True)
+    assert hit and names == {("ball", "elephant"), ("ball", "rod")}
+    for contact in data:
+        assert "ball" in contact.names
+        assert np.linalg.norm(contact.point - (top + [0, 0, 0.04])) <= 0.05 + 1e-12  # in the ball
+        if "elephant" in contact.names:
+            assert contact.index("ball") is None and contact.index("elephant") >= 0
+        else:
+            assert contact.triangles == (None, None)
+    # The closest pairs agree with the pair queries.
+    distance, pair = scene.min_distance_internal(return_names=True)
+    assert distance == 0 and pair in {("ball", "elephant"), ("ball", "rod")}
+    crate = scene.min_distance_single(elephant, translation(5, 5, 5.5), return_name=True)
+    assert crate[1] == "crate"
+    gap = tightbvh.distance_shape(Box(0.2, 0.2, 0.2), translation(5, 5, 5), tightbvh.Model(elephant),
+                                  translation(5, 5, 5.5))
+    assert crate[0] == pytest.approx(gap.distance, rel=1e-12)
+    with pytest.raises(ValueError, match="is a shape"):
+        scene.model("ball")
+    # Pickled with its shapes, the scene answers the same.
+    again = pickle.loads(pickle.dumps(scene))
+    assert again.in_collision_internal(return_names=True)[1] == names
+    assert pickle.loads(pickle.dumps(Capsule(0.02, 0.5))).length == 0.5
+    result = tightbvh.collide_shape(Sphere(0.05), translation(*top), elephant_model, all_pairs=True)
+    copied = pickle.loads(pickle.dumps(result))
+    assert copied.hit == result.hit and copied.triangles.tolist() == result.triangles.tolist()
+    far = tightbvh.distance_shape(Sphere(0.05), translation(3, 0, 0), elephant_model)
+    assert pickle.loads(pickle.dumps(far)).point_mesh.tolist() == far.point_mesh.tolist()

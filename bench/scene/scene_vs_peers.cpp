@@ -27,6 +27,9 @@
 #include <BulletCollision/Gimpact/btGImpactShape.h>
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
 #include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/collision.h>
 
 #include <CLI/CLI.hpp>
@@ -40,9 +43,11 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_set>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "scene_vs_peers.hpp"
@@ -53,6 +58,7 @@
 #include "tightbvh/model.hpp"
 #include "tightbvh/scene.hpp"
 #include "tightbvh/scene_file.hpp"
+#include "tightbvh/shape.hpp"
 
 namespace tightbvh::bench {
 namespace {
@@ -63,11 +69,12 @@ using IndexPair = std::pair<std::uint32_t, std::uint32_t>;  // object indices (f
 // The scene as plain arrays: object i is the i-th id of the loaded scene.
 struct SceneData {
   std::vector<ObjectId> ids;
-  std::vector<ModelPtr> models;  // per object
-  std::vector<Pose> poses;       // initial poses
+  std::vector<ModelPtr> models;               // per object (null for a shape)
+  std::vector<std::optional<Shape>> shapes;   // per object (set for a shape)
+  std::vector<Pose> poses;                    // initial poses
   std::vector<std::vector<std::pair<std::uint32_t, Pose>>> frames;  // per frame: (index, pose)
   std::unordered_set<std::uint64_t> allowed;                         // key(i, j)
-  std::vector<ModelPtr> distinct;                                    // each model once
+  std::vector<ModelPtr> distinct;                                    // each model once (shapes: none)
   [[nodiscard]] static std::uint64_t key(std::uint32_t i, std::uint32_t j) {
     if (i > j) std::swap(i, j);
     return (std::uint64_t(i) << 32) | j;
@@ -123,6 +130,18 @@ class TightbvhEngine final : public Engine {
   return tf;
 }
 
+struct FclShape {
+  std::shared_ptr<fcl::CollisionGeometry<double>> operator()(const Sphere& s) const {
+    return std::make_shared<fcl::Sphere<double>>(s.radius);
+  }
+  std::shared_ptr<fcl::CollisionGeometry<double>> operator()(const Box& s) const {
+    return std::make_shared<fcl::Box<double>>(s.size.x(), s.size.y(), s.size.z());
+  }
+  std::shared_ptr<fcl::CollisionGeometry<double>> operator()(const Capsule& s) const {
+    return std::make_shared<fcl::Capsule<double>>(s.radius, s.length);
+  }
+};
+
 class FclEngine final : public Engine {
  public:
   using Bv = fcl::OBBRSS<double>;
@@ -146,8 +165,13 @@ class FclEngine final : public Engine {
       geometry[m.get()] = g;
     }
     for (std::uint32_t i = 0; i < d.models.size(); ++i) {
-      objects_.push_back(std::make_unique<fcl::CollisionObject<double>>(geometry.at(d.models[i].get()),
-                                                                        fcl_transform(d.poses[i])));
+      std::shared_ptr<fcl::CollisionGeometry<double>> g;
+      if (d.shapes[i]) {  // FCL's own primitives: the same conventions (shape.hpp)
+        g = std::visit(FclShape{}, *d.shapes[i]);
+      } else {
+        g = geometry.at(d.models[i].get());
+      }
+      objects_.push_back(std::make_unique<fcl::CollisionObject<double>>(g, fcl_transform(d.poses[i])));
       objects_.back()->setUserData(reinterpret_cast<void*>(std::uintptr_t(i)));
       raw_.push_back(objects_.back().get());
     }
@@ -205,6 +229,19 @@ class FclEngine final : public Engine {
 }
 
 
+// Bullet's primitive for a shape (btCapsuleShapeZ: along z, `height` the axis segment, as ours).
+struct BulletPrimitive {
+  std::unique_ptr<btCollisionShape> operator()(const Sphere& s) const { return std::make_unique<btSphereShape>(s.radius); }
+  std::unique_ptr<btCollisionShape> operator()(const Box& s) const {
+    auto box = std::make_unique<btBoxShape>(btVector3(0.5 * s.size.x(), 0.5 * s.size.y(), 0.5 * s.size.z()));
+    box->setMargin(0);  // exact geometry, like every other engine here
+    return box;
+  }
+  std::unique_ptr<btCollisionShape> operator()(const Capsule& s) const {
+    return std::make_unique<btCapsuleShapeZ>(s.radius, s.length);
+  }
+};
+
 // The allowed pairs, honoured in the broad phase (Bullet's filter hook): no narrow phase for them.
 struct AllowedFilter final : btOverlapFilterCallback {
   const SceneData* d = nullptr;
@@ -229,7 +266,12 @@ class BulletEngine final : public Engine {
     }
     for (std::uint32_t i = 0; i < d.models.size(); ++i) {
       auto o = std::make_unique<btCollisionObject>();
-      o->setCollisionShape(shape_of.at(d.models[i].get())->shape.get());
+      if (d.shapes[i]) {  // Bullet's primitives, margin 0 where Bullet lets it (sphere and capsule keep theirs as radius)
+        primitives_.push_back(std::visit(BulletPrimitive{}, *d.shapes[i]));
+        o->setCollisionShape(primitives_.back().get());
+      } else {
+        o->setCollisionShape(shape_of.at(d.models[i].get())->shape.get());
+      }
       o->setCollisionFlags(0);  // not static: static-static pairs are never tested
       o->setUserIndex(int(i));
       o->setWorldTransform(bullet_transform(d.poses[i]));
@@ -264,12 +306,24 @@ class BulletEngine final : public Engine {
   btCollisionWorld world_;
   AllowedFilter filter_;
   std::vector<std::unique_ptr<BulletShape>> shapes_;
+  std::vector<std::unique_ptr<btCollisionShape>> primitives_;
   std::vector<std::unique_ptr<btCollisionObject>> objects_;
 };
 
-// Brute force: the pair query on every object pair that is not allowed; a pair whose
-// vertex-bounding spheres (centre of the model's bounds box, radius the farthest vertex, padded)
-// are disjoint cannot touch and is skipped.
+// Whether objects i and j touch at these poses: the pair query of their kinds (model, shape).
+bool pair_touches(const SceneData& d, std::uint32_t i, std::uint32_t j, const Pose& pi, const Pose& pj,
+                  QueryWorkspace& workspace) {
+  if (d.models[i] && d.models[j]) return collide(*d.models[i], pi, *d.models[j], pj, QueryOptions{}, workspace).hit;
+  if (d.shapes[i] && d.shapes[j]) return distance(*d.shapes[i], pi, *d.shapes[j], pj).distance == 0.0;
+  const bool shape_first = d.shapes[i].has_value();
+  const std::uint32_t s = shape_first ? i : j, m = shape_first ? j : i;
+  return std::visit([&](const auto& shape) { return collide(shape, shape_first ? pi : pj, *d.models[m], shape_first ? pj : pi).hit; },
+                    *d.shapes[s]);
+}
+
+// Brute force: the pair query on every object pair that is not allowed; a pair whose bounding
+// spheres (a model's: centre of its bounds box, radius the farthest vertex, padded; a shape's:
+// around its box) are disjoint cannot touch and is skipped.
 PairsPerFrame brute_force(const SceneData& d) {
   const std::size_t n = d.models.size();
   std::map<const Model*, std::pair<Vec3, double>> sphere;
@@ -279,6 +333,10 @@ PairsPerFrame brute_force(const SceneData& d) {
     for (const Vec3& v : m->mesh().vertices) r = std::max(r, (v - c).norm());
     sphere[m.get()] = {c, r * (1 + 1e-9) + 1e-12};
   }
+  const auto sphere_of = [&](std::size_t i) -> std::pair<Vec3, double> {
+    if (d.shapes[i]) return {Vec3::Zero(), bounding_box(*d.shapes[i]).half_extents.norm() * (1 + 1e-9) + 1e-12};
+    return sphere.at(d.models[i].get());
+  };
   std::vector<Pose> poses = d.poses;
   PairsPerFrame all;
   QueryWorkspace workspace;
@@ -288,7 +346,7 @@ PairsPerFrame brute_force(const SceneData& d) {
     std::vector<Vec3> centre(n);
     std::vector<double> radius(n);
     for (std::size_t i = 0; i < n; ++i) {
-      const auto& [c, r] = sphere.at(d.models[i].get());
+      const auto [c, r] = sphere_of(i);
       centre[i] = poses[i].rotation * c + poses[i].translation;
       radius[i] = r;
     }
@@ -296,8 +354,7 @@ PairsPerFrame brute_force(const SceneData& d) {
     for (std::uint32_t i = 0; i < n; ++i)
       for (std::uint32_t j = i + 1; j < n; ++j) {
         if ((centre[i] - centre[j]).norm() > radius[i] + radius[j] || d.is_allowed(i, j)) continue;
-        if (collide(*d.models[i], poses[i], *d.models[j], poses[j], QueryOptions{}, workspace).hit)
-          pairs.emplace_back(i, j);
+        if (pair_touches(d, i, j, poses[i], poses[j], workspace)) pairs.emplace_back(i, j);
       }
     all.push_back(std::move(pairs));
   }
@@ -393,7 +450,8 @@ double rate(Engine& e, const SceneData& d, int reps, double min_seconds) {
 nlohmann::json memory_report(const Scene& scene) {
   (void)scene.tree_stats();  // builds the top-level tree, part of own_bytes()
   std::size_t unshared = 0;
-  for (const ObjectId id : scene.ids()) unshared += scene.object(id).model->bytes();
+  for (const ObjectId id : scene.ids())
+    if (scene.object(id).model) unshared += scene.object(id).model->bytes();
   const std::size_t objects = scene.size();
   return {{"objects", objects},
           {"models", scene.model_count()},
@@ -456,8 +514,10 @@ int run(int argc, char** argv) {
     const SceneObject& o = file.scene.object(d.ids[i]);
     index[d.ids[i]] = i;
     d.models.push_back(o.model);
+    d.shapes.push_back(o.shape);
     d.poses.push_back(o.pose);
-    if (std::find(d.distinct.begin(), d.distinct.end(), o.model) == d.distinct.end()) d.distinct.push_back(o.model);
+    if (o.model && std::find(d.distinct.begin(), d.distinct.end(), o.model) == d.distinct.end())
+      d.distinct.push_back(o.model);
   }
   for (std::uint32_t i = 0; i < d.ids.size(); ++i)
     for (std::uint32_t j = i + 1; j < d.ids.size(); ++j)

@@ -26,15 +26,17 @@ struct ABox {
   const WideNode* node = nullptr;  // the node of A holding the box, in lane `lane`
   int lane = 0;
   Vec3 ref_a;  // that node's ref
+  float t[3];  // B's node ref in the frame of A's node: R0 ref_b + t0 - ref_a, rounded
+  double t_err = 0.0;  // >= |t_k - exact|, each k
 };
 
-// The smallest float >= x for x >= 0 below float's overflow (as wide_pair rounds t_err up): the
-// factor puts float(x') >= x' (1 - 2^-24) > x, and 1e-30 keeps x' in float's normal range.
+// A float >= x for x >= 0 below float's overflow (as wide_pair rounds t_err up): the factor
+// puts float(x') >= x' (1 - 2^-24) > x, and 1e-30 keeps x' in float's normal range.
 float up(double x) { return static_cast<float>(x * (1.0 + 0x1p-20) + 1e-30); }
 
 // Box `lane` of A's node `n` (ref ref_a) against B's node at ref_b, hoisted from the double refs.
-ABox fresh(const WideFrame& f, const WideNode& n, int lane, const Vec3& ref_a, const Vec3& ref_b) {
-  const WidePair p = wide_pair(f, ref_a, ref_b);
+ABox fresh(const WideFrame& f, const WideNode& n, int lane, const Vec3& ref_a, const float (&t)[3], double t_err) {
+  const WidePair p{{t[0], t[1], t[2]}, up(t_err)};
   const WideBox a = lane_box(n, lane);
   ABox x;
   x.h = hoist(f, p, a);
@@ -48,6 +50,8 @@ ABox fresh(const WideFrame& f, const WideNode& n, int lane, const Vec3& ref_a, c
   x.node = &n;
   x.lane = lane;
   x.ref_a = ref_a;
+  for (int k = 0; k < 3; ++k) x.t[k] = t[k];
+  x.t_err = t_err;
   return x;
 }
 
@@ -66,7 +70,7 @@ ABox fresh(const WideFrame& f, const WideNode& n, int lane, const Vec3& ref_a, c
 // base >= the rest of its allowance + 1.8 err (the allowance section: tn's error reaches each
 // axis' offset through weights summing to <= 1.8), so base' = core + up(2 err'); the float sum
 // can round it down by u relative, which the 2 against 1.8 covers.
-void move_b(ABox& x, const WideNode& n, int lane, const Vec3& ref_c) {
+void move_b(ABox& x, const WideNode& n, int lane, const Vec3& ref_c, const float (&f_r0)[9]) {
   const float c[3] = {n.center[0][lane], n.center[1][lane], n.center[2][lane]};
   float tinf = 0.0f;
   for (int i = 0; i < 3; ++i) {
@@ -78,6 +82,42 @@ void move_b(ABox& x, const WideNode& n, int lane, const Vec3& ref_c) {
   const double r1 = std::abs(ref_c[0]) + std::abs(ref_c[1]) + std::abs(ref_c[2]);
   x.err = (x.err + 7.5 * kU * c1 + 1.01 * kU * static_cast<double>(tinf) + 1.1 * 0x1p-53 * r1) * (1.0 + 0x1p-50);
   x.h.base = x.core + up(2.0 * x.err);
+  // B's ref in the frame of A's node, for the boxes of A's side (fresh): t' = fl(t + fl(R0f c)),
+  // exact t + R0 c + R0 (ref_c - ref_b - c). With R0f = fl(R0) (entries within u of R0's,
+  // |R0_ij| <= 1.0001): |(R0f - R0) c| <= 1.0001 u |c|_1, the dot product gamma_3 1.0001 |c|_1,
+  // the addition 1.0001 u |t'|_inf, the refs' rounding 1.01 2^-53 |ref_c|_1 (as above).
+  float t_inf = 0.0f;
+  for (int k = 0; k < 3; ++k) {
+    x.t[k] = x.t[k] + (f_r0[3 * k] * c[0] + f_r0[3 * k + 1] * c[1] + f_r0[3 * k + 2] * c[2]);
+    t_inf = std::max(t_inf, std::abs(x.t[k]));
+  }
+  x.t_err = (x.t_err + 4.5 * kU * c1 + 1.01 * kU * static_cast<double>(t_inf) + 1.1 * 0x1p-53 * r1) * (1.0 + 0x1p-50);
+}
+
+// B's ref in the frame of the child node of A's box x (ref ref_c = x.ref_a (+) c, c the box's
+// float offset), from x.t: t' = fl(t - c), exact t - c - (ref_c - ref_a - c): the subtraction
+// rounds by 1.0001 u |t'|_inf, the refs' double additions by 2^-53 |ref_c|_1.
+void move_a(const ABox& x, const Vec3& ref_c, float (&t)[3], double& t_err) {
+  float t_inf = 0.0f;
+  for (int k = 0; k < 3; ++k) {
+    t[k] = x.t[k] - x.node->center[k][x.lane];
+    t_inf = std::max(t_inf, std::abs(t[k]));
+  }
+  const double r1 = std::abs(ref_c[0]) + std::abs(ref_c[1]) + std::abs(ref_c[2]);
+  t_err = (x.t_err + 1.01 * kU * static_cast<double>(t_inf) + 1.1 * 0x1p-53 * r1) * (1.0 + 0x1p-50);
+}
+
+// first_hit visits a step's boxes nearest first (as traverse.hpp orders a split's child pairs):
+// `order` gets 0..count-1 sorted by |tn|_1, the distance from A's box center to B's node ref (a
+// node's ref is its box's center) in A's box frame.
+void nearest_first(const ABox* boxes, int count, int (&order)[kWideLanes]) {
+  float key[kWideLanes];
+  for (int k = 0; k < count; ++k) {
+    key[k] = std::abs(boxes[k].h.tn[0]) + std::abs(boxes[k].h.tn[1]) + std::abs(boxes[k].h.tn[2]);
+    int i = k;
+    for (; i > 0 && key[order[i - 1]] > key[k]; --i) order[i] = order[i - 1];
+    order[i] = k;
+  }
 }
 
 unsigned occupied(const WideNode& n) {
@@ -163,7 +203,7 @@ struct Descent {
         next[moves] = n.child[lane];
         next_ref[moves] = child_ref(ref_b, n, lane);
         moved[moves] = x;
-        move_b(moved[moves], n, lane, next_ref[moves]);
+        move_b(moved[moves], n, lane, next_ref[moves], f.r0);
         ++moves;
       } else {
         down_a |= 1u << lane;
@@ -183,19 +223,31 @@ struct Descent {
         masks[k] = wide_overlap(moved[k].h, b0);
       }
     }
-    for (int k = 0; k < moves; ++k)
+    int order[kWideLanes] = {0, 1, 2, 3};
+    if constexpr (FirstHit) nearest_first(moved, moves, order);
+    for (int i = 0; i < moves; ++i) {
+      const int k = order[i];
       if (masks[k] != 0 && visit(moved[k], next[k], next_ref[k], masks[k])) return true;
-    if (down_a != 0) return descend_a(a_child, child_ref(x.ref_a, *x.node, x.lane), nb, ref_b, down_a);
+    }
+    if (down_a != 0) {
+      const Vec3 ref_c = child_ref(x.ref_a, *x.node, x.lane);
+      float t[3];
+      double t_err;
+      move_a(x, ref_c, t, t_err);
+      return descend_a(a_child, ref_c, t, t_err, nb, ref_b, down_a);
+    }
     return false;
   }
 
   // Each box of A's node na (ref ref_a) against the lanes `allowed` of B's node nb (ref ref_b).
-  bool descend_a(std::int32_t na, const Vec3& ref_a, std::int32_t nb, const Vec3& ref_b, unsigned allowed) {
+  // t, t_err: B's ref in na's frame (ABox::t).
+  bool descend_a(std::int32_t na, const Vec3& ref_a, const float (&t)[3], double t_err, std::int32_t nb,
+                 const Vec3& ref_b, unsigned allowed) {
     const WideNode& n = wa.nodes[static_cast<std::size_t>(na)];
     const WideNode& b = wb.nodes[static_cast<std::size_t>(nb)];
     ABox boxes[kWideLanes];
     int count = 0;
-    for (unsigned m = occupied(n); m != 0; m &= m - 1) boxes[count++] = fresh(f, n, std::countr_zero(m), ref_a, ref_b);
+    for (unsigned m = occupied(n); m != 0; m &= m - 1) boxes[count++] = fresh(f, n, std::countr_zero(m), ref_a, t, t_err);
     box_tests += static_cast<std::uint64_t>(count) * static_cast<unsigned>(std::popcount(allowed));
     unsigned masks[kWideLanes];
     for (int k = 0; k < count; k += 2) {
@@ -207,8 +259,12 @@ struct Descent {
         masks[k] = wide_overlap(boxes[k].h, b) & allowed;
       }
     }
-    for (int k = 0; k < count; ++k)
+    int order[kWideLanes] = {0, 1, 2, 3};
+    if constexpr (FirstHit) nearest_first(boxes, count, order);
+    for (int i = 0; i < count; ++i) {
+      const int k = order[i];
       if (masks[k] != 0 && visit(boxes[k], nb, ref_b, masks[k])) return true;
+    }
     return false;
   }
 };
@@ -219,7 +275,8 @@ void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, con
   Descent<FirstHit> d{ta, wa, ma, tb, wb, mb, rel, wide_frame(rel, wa.eta, wb.eta, 0.0), avx2_bounds_available(),
                       result, {}, {}};
   // The roots are not tested: the children of A's root against those of B's.
-  (void)d.descend_a(0, wa.root_ref, 0, wb.root_ref, occupied(wb.nodes[0]));
+  const WidePair root = wide_pair(d.f, wa.root_ref, wb.root_ref);
+  (void)d.descend_a(0, wa.root_ref, root.t, static_cast<double>(root.t_err), 0, wb.root_ref, occupied(wb.nodes[0]));
   if constexpr (!FirstHit) d.batch.flush(result);
   result.stats.box_tests += d.box_tests;
   result.stats.triangle_tests += d.triangle_tests;

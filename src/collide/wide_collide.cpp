@@ -16,29 +16,17 @@ namespace {
 
 constexpr double kU = 0x1p-24;  // float's unit roundoff
 
-// A box of A hoisted for the nodes of B it meets (hoist, wide_nodes.hpp), with what moving B's
-// reference point and descending A need.
-struct ABox {
-  WideHoisted h;
-  double err = 0.0;   // >= |h.tn_i - exact tn_i|, each i (exact: A^T (R0 ref_b + t0 - ref_a - ca))
-  float core = 0.0f;  // kappa (sum ea + margin) + margin: the part of h.base that does not depend on tn
-  float volume = 0.0f;
-  const WideNode* node = nullptr;  // the node of A holding the box, in lane `lane`
-  int lane = 0;
-  Vec3 ref_a;  // that node's ref
-  float t[3];  // B's node ref in the frame of A's node: R0 ref_b + t0 - ref_a, rounded
-  double t_err = 0.0;  // >= |t_k - exact|, each k
-};
-
 // A float >= x for x >= 0 below float's overflow (as wide_pair rounds t_err up): the factor
 // puts float(x') >= x' (1 - 2^-24) > x, and 1e-30 keeps x' in float's normal range.
 float up(double x) { return static_cast<float>(x * (1.0 + 0x1p-20) + 1e-30); }
 
+}  // namespace
+
 // Box `lane` of A's node `n` (ref ref_a) against B's node at ref_b, hoisted from the double refs.
-ABox fresh(const WideFrame& f, const WideNode& n, int lane, const Vec3& ref_a, const float (&t)[3], double t_err) {
+DescentBox fresh(const WideFrame& f, const WideNode& n, int lane, const Vec3& ref_a, const float (&t)[3], double t_err) {
   const WidePair p{{t[0], t[1], t[2]}, up(t_err)};
   const WideBox a = lane_box(n, lane);
-  ABox x;
+  DescentBox x;
   x.h = hoist(f, p, a);
   // hoist's tn is within 4.8 u |d|_1 + 1.75 t_err of exact (d = t - ca as hoist rounds it: the
   // allowance section of wide_nodes.hpp), and its base adds 10 u |d|_1 + 4 t_err, over 1.8 times that.
@@ -70,7 +58,7 @@ ABox fresh(const WideFrame& f, const WideNode& n, int lane, const Vec3& ref_a, c
 // base >= the rest of its allowance + 1.8 err (the allowance section: tn's error reaches each
 // axis' offset through weights summing to <= 1.8), so base' = core + up(2 err'); the float sum
 // can round it down by u relative, which the 2 against 1.8 covers.
-void move_b(ABox& x, const WideNode& n, int lane, const Vec3& ref_c, const float (&f_r0)[9]) {
+void move_b(DescentBox& x, const WideNode& n, int lane, const Vec3& ref_c, const float (&f_r0)[9]) {
   const float c[3] = {n.center[0][lane], n.center[1][lane], n.center[2][lane]};
   float tinf = 0.0f;
   for (int i = 0; i < 3; ++i) {
@@ -97,7 +85,7 @@ void move_b(ABox& x, const WideNode& n, int lane, const Vec3& ref_c, const float
 // B's ref in the frame of the child node of A's box x (ref ref_c = x.ref_a (+) c, c the box's
 // float offset), from x.t: t' = fl(t - c), exact t - c - (ref_c - ref_a - c): the subtraction
 // rounds by 1.0001 u |t'|_inf, the refs' double additions by 2^-53 |ref_c|_1.
-void move_a(const ABox& x, const Vec3& ref_c, float (&t)[3], double& t_err) {
+void move_a(const DescentBox& x, const Vec3& ref_c, float (&t)[3], double& t_err) {
   float t_inf = 0.0f;
   for (int k = 0; k < 3; ++k) {
     t[k] = x.t[k] - x.node->center[k][x.lane];
@@ -107,10 +95,12 @@ void move_a(const ABox& x, const Vec3& ref_c, float (&t)[3], double& t_err) {
   t_err = (x.t_err + 1.01 * kU * static_cast<double>(t_inf) + 1.1 * 0x1p-53 * r1) * (1.0 + 0x1p-50);
 }
 
+namespace {
+
 // first_hit visits a step's boxes nearest first (as traverse.hpp orders a split's child pairs):
 // `order` gets 0..count-1 sorted by |tn|_1, the distance from A's box center to B's node ref (a
 // node's ref is its box's center) in A's box frame.
-void nearest_first(const ABox* boxes, int count, int (&order)[kWideLanes]) {
+void nearest_first(const DescentBox* boxes, int count, int (&order)[kWideLanes]) {
   float key[kWideLanes];
   for (int k = 0; k < count; ++k) {
     key[k] = std::abs(boxes[k].h.tn[0]) + std::abs(boxes[k].h.tn[1]) + std::abs(boxes[k].h.tn[2]);
@@ -179,12 +169,12 @@ struct Descent {
   }
 
   // Box x of A against B's node nb (ref ref_b), whose lanes `kept` the kernel kept. True: stop.
-  bool visit(const ABox& x, std::int32_t nb, const Vec3& ref_b, unsigned kept) {
+  bool visit(const DescentBox& x, std::int32_t nb, const Vec3& ref_b, unsigned kept) {
     const WideNode& n = wb.nodes[static_cast<std::size_t>(nb)];
     const std::int32_t a_child = x.node->child[x.lane];
     const std::uint32_t a_count = x.node->count[x.lane];
     unsigned down_a = 0;  // lanes of n met by the children of x
-    ABox moved[kWideLanes];
+    DescentBox moved[kWideLanes];
     std::int32_t next[kWideLanes];
     Vec3 next_ref[kWideLanes];
     int moves = 0;
@@ -240,12 +230,12 @@ struct Descent {
   }
 
   // Each box of A's node na (ref ref_a) against the lanes `allowed` of B's node nb (ref ref_b).
-  // t, t_err: B's ref in na's frame (ABox::t).
+  // t, t_err: B's ref in na's frame (DescentBox::t).
   bool descend_a(std::int32_t na, const Vec3& ref_a, const float (&t)[3], double t_err, std::int32_t nb,
                  const Vec3& ref_b, unsigned allowed) {
     const WideNode& n = wa.nodes[static_cast<std::size_t>(na)];
     const WideNode& b = wb.nodes[static_cast<std::size_t>(nb)];
-    ABox boxes[kWideLanes];
+    DescentBox boxes[kWideLanes];
     int count = 0;
     for (unsigned m = occupied(n); m != 0; m &= m - 1) boxes[count++] = fresh(f, n, std::countr_zero(m), ref_a, t, t_err);
     box_tests += static_cast<std::uint64_t>(count) * static_cast<unsigned>(std::popcount(allowed));

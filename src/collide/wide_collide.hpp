@@ -24,6 +24,30 @@
 
 namespace tightbvh::query_detail {
 
+// A box of A hoisted for the nodes of B it meets (hoist, wide_nodes.hpp), with what moving B's
+// reference point and descending A need.
+struct DescentBox {
+  WideHoisted h;
+  double err = 0.0;   // >= |h.tn_i - exact tn_i|, each i (exact: A^T (R0 ref_b + t0 - ref_a - ca))
+  float core = 0.0f;  // kappa (sum ea + margin) + margin: the part of h.base that does not depend on tn
+  float volume = 0.0f;
+  const WideNode* node = nullptr;  // the node of A holding the box, in lane `lane`
+  int lane = 0;
+  Vec3 ref_a;  // that node's ref
+  float t[3];  // B's node ref in the frame of A's node: R0 ref_b + t0 - ref_a, rounded
+  double t_err = 0.0;  // >= |t_k - exact|, each k
+};
+
+// The descent's steps, exposed for the test of their error bounds (wide_collide.cpp derives them).
+// Box `lane` of A's node `n` (ref ref_a), hoisted for B's node whose ref is at t (with error
+// t_err) in n's frame.
+[[nodiscard]] DescentBox fresh(const WideFrame& f, const WideNode& n, int lane, const Vec3& ref_a, const float (&t)[3],
+                               double t_err);
+// The same box of A for B's child `lane` of node n, whose ref is ref_c: moves h.tn and t.
+void move_b(DescentBox& x, const WideNode& n, int lane, const Vec3& ref_c, const float (&f_r0)[9]);
+// B's ref in the frame of the child node of x (whose ref is ref_c), for that node's boxes.
+void move_a(const DescentBox& x, const Vec3& ref_c, float (&t)[3], double& t_err);
+
 /// Mesh A's triangles touching mesh B's, B placed in A's frame by `rel` (x_A = R x_B + t), over the
 /// wide trees `wa` of `ta` and `wb` of `tb` (build_wide; the trees give the leaves' triangle order).
 /// `mode` all_pairs: result.pairs sorted and unique, the same set as collide()'s with margin 0;

@@ -155,6 +155,107 @@ TEST(WideCollide, SamePairsAsBruteForceOnSmallMeshes) {
   EXPECT_GE(hits, 24);
 }
 
+// The descent's float steps stay within their error bounds (wide_collide.cpp's derivation): along
+// random walks down knot1 and fandisk (at the origin and 1e5 away, random poses), moving B's node
+// (move_b), opening A's box (move_a, fresh), B's ref in A's node frame (t) and in A's box frame
+// (tn) are within t_err and err of their values computed in long double from the refs, each
+// step's own error within its bound's growth; and the bounds stay small against the boxes.
+TEST(WideCollide, MovedReferencePointsWithinTheirBounds) {
+  std::mt19937_64 rng(380);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int steps = 0;
+  for (const double offset : {0.0, 1e5}) {
+    Mesh ma = shipped_mesh("knot1.off"), mb = shipped_mesh("fandisk.off");
+    const Vec3 sa = offset * Vec3(unit(rng), unit(rng), unit(rng)), sb = offset * Vec3(unit(rng), unit(rng), unit(rng));
+    for (Vec3& v : ma.vertices) v += sa;
+    for (Vec3& v : mb.vertices) v += sb;
+    const Model a = model(std::move(ma)), b = model(std::move(mb));
+    const double size = a.radius + b.radius;
+    for (int pose = 0; pose < 40; ++pose) {
+      const Mat3 rot = random_rotation(rng);
+      const Pose rel{rot, a.center - rot * b.center + 0.5 * size * Vec3(unit(rng), unit(rng), unit(rng))};
+      const WideFrame f = wide_frame(rel, a.wide.eta, b.wide.eta, 0.0);
+      const auto check = [&](const DescentBox& x, const Vec3& ref_b) {
+        long double t[3], d[3];
+        for (int k = 0; k < 3; ++k) {
+          t[k] = -static_cast<long double>(x.ref_a[k]) + static_cast<long double>(rel.translation[k]);
+          for (int l = 0; l < 3; ++l)
+            t[k] += static_cast<long double>(rel.rotation(k, l)) * static_cast<long double>(ref_b[l]);
+          EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(x.t[k]) - t[k])), x.t_err);
+          d[k] = t[k] - static_cast<long double>(x.node->center[k][x.lane]);
+        }
+        for (int i = 0; i < 3; ++i) {
+          long double tn = 0.0L;
+          for (int k = 0; k < 3; ++k) tn += static_cast<long double>(x.node->axes[3 * i + k][x.lane]) * d[k];
+          EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(x.h.tn[i]) - tn)), x.err);
+        }
+        EXPECT_LT(x.err, 1e-5 * size);
+        ++steps;
+      };
+      const auto random_lane = [&](const WideNode& n) {
+        int lanes[kWideLanes], count = 0;
+        for (int l = 0; l < kWideLanes; ++l)
+          if (!is_empty_lane(n, l)) lanes[count++] = l;
+        return lanes[std::uniform_int_distribution<int>(0, count - 1)(rng)];
+      };
+      const WidePair root = wide_pair(f, a.wide.root_ref, b.wide.root_ref);
+      DescentBox x = fresh(f, a.wide.nodes[0], random_lane(a.wide.nodes[0]), a.wide.root_ref, root.t,
+                           static_cast<double>(root.t_err));
+      std::int32_t nb = 0;
+      Vec3 ref_b = b.wide.root_ref;
+      for (int step = 0; step < 40; ++step) {
+        check(x, ref_b);
+        const WideNode& n = b.wide.nodes[static_cast<std::size_t>(nb)];
+        int b_lanes[kWideLanes], nbl = 0;
+        for (int l = 0; l < kWideLanes; ++l)
+          if (!is_empty_lane(n, l) && n.count[l] == 0) b_lanes[nbl++] = l;
+        const bool a_open = x.node->count[x.lane] == 0;
+        if (nbl == 0 && !a_open) break;
+        if (nbl > 0 && (!a_open || unit(rng) < 0.6)) {  // B's side
+          const int lane = b_lanes[std::uniform_int_distribution<int>(0, nbl - 1)(rng)];
+          const Vec3 ref_c = child_ref(ref_b, n, lane);
+          const DescentBox before = x;
+          move_b(x, n, lane, ref_c, f.r0);
+          // The step alone is within the bound's growth: tn and t moved by A^T R0 (ref_c - ref_b)
+          // and R0 (ref_c - ref_b), computed in long double.
+          long double moved[3];
+          for (int k = 0; k < 3; ++k) {
+            moved[k] = 0.0L;
+            for (int l = 0; l < 3; ++l)
+              moved[k] += static_cast<long double>(rel.rotation(k, l)) *
+                          (static_cast<long double>(ref_c[l]) - static_cast<long double>(ref_b[l]));
+            EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(x.t[k]) -
+                                                   static_cast<long double>(before.t[k]) - moved[k])),
+                      x.t_err - before.t_err);
+          }
+          for (int i = 0; i < 3; ++i) {
+            long double step = 0.0L;
+            for (int k = 0; k < 3; ++k) step += static_cast<long double>(x.node->axes[3 * i + k][x.lane]) * moved[k];
+            EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(x.h.tn[i]) -
+                                                   static_cast<long double>(before.h.tn[i]) - step)),
+                      x.err - before.err);
+          }
+          nb = n.child[lane];
+          ref_b = ref_c;
+        } else {  // A's side
+          const Vec3 ref_c = child_ref(x.ref_a, *x.node, x.lane);
+          float t[3];
+          double t_err = 0.0;
+          move_a(x, ref_c, t, t_err);
+          for (int k = 0; k < 3; ++k)  // the step alone: t moved by -(ref_c - ref_a)
+            EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(t[k]) - static_cast<long double>(x.t[k]) +
+                                                   (static_cast<long double>(ref_c[k]) -
+                                                    static_cast<long double>(x.ref_a[k])))),
+                      t_err - x.t_err);
+          const WideNode& na = a.wide.nodes[static_cast<std::size_t>(x.node->child[x.lane])];
+          x = fresh(f, na, random_lane(na), ref_c, t, t_err);
+        }
+      }
+    }
+  }
+  EXPECT_GE(steps, 1000);
+}
+
 TEST(WideCollide, EmptyTreesAndBadPose) {
   const Model a = model(shipped_mesh("knot1.off"));
   const QueryResult none = collide_wide(a.tree, WideTree{}, a.mesh, a.tree, a.wide, a.mesh, Pose::identity(),

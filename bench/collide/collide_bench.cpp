@@ -28,6 +28,7 @@
 #include "collide/query_common.hpp"
 #include "collide/query_workspace.hpp"
 #include "collide/tri_batch.hpp"
+#include "collide/wide_collide.hpp"
 #include "collide/wide_nodes.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
@@ -657,5 +658,55 @@ void BM_WideCallsDoubleKernel(benchmark::State& state) {
   state.SetLabel(kScenarioNames[scenario]);
 }
 BENCHMARK(BM_WideCallsDoubleKernel)->DenseRange(0, 2)->ArgName("scenario");
+
+// ---------------------------------------------------------------- wide descent (issue 38)
+
+// Queries per second of the descent over wide trees (collide_wide, src/collide/wide_collide.hpp)
+// against collide() on the same auto trees and poses. Args: engine (0 collide() with a reused
+// workspace, 1 collide_wide; adjacent in the run, so that both see the same machine), scenario,
+// mode (0 first_hit, 1 all_pairs). Counters as
+// BM_Traversal's; box_tests count box pairs (a kernel lane for collide_wide).
+void BM_WideCollide(benchmark::State& state) {
+  static std::map<std::pair<const Mesh*, int>, std::unique_ptr<Tree>> trees;
+  static std::map<const Tree*, query_detail::WideTree> wides;
+  const Scene& sc = scene();
+  const Tree* ta = tree_for(sc.a, kAutoFitter, trees);
+  const Tree* tb = tree_for(sc.b, kAutoFitter, trees);
+  for (const Tree* t : {ta, tb})
+    if (!wides.contains(t)) wides.emplace(t, query_detail::build_wide(*t));
+  const query_detail::WideTree& wa = wides.at(ta);
+  const query_detail::WideTree& wb = wides.at(tb);
+  const bool wide = state.range(0) != 0;
+  const int scenario = static_cast<int>(state.range(1));
+  const bool all_pairs = state.range(2) != 0;
+  const QueryMode mode = all_pairs ? QueryMode::all_pairs : QueryMode::first_hit;
+  const QueryOptions options{.mode = mode};
+  QueryWorkspace workspace;
+  QueryStats total;
+  std::size_t queries = 0, hits = 0, pairs = 0;
+  for (auto _ : state) {
+    for (const Pose& pose : sc.poses[scenario]) {
+      const QueryResult r = wide ? query_detail::collide_wide(*ta, wa, sc.a, *tb, wb, sc.b, pose, mode)
+                                 : collide(*ta, sc.a, Pose::identity(), *tb, sc.b, pose, options, workspace);
+      total.box_tests += r.stats.box_tests;
+      total.triangle_tests += r.stats.triangle_tests;
+      hits += r.hit;
+      pairs += r.pairs.size();
+      ++queries;
+    }
+  }
+  const double q = static_cast<double>(queries);
+  state.counters["box_tests"] = static_cast<double>(total.box_tests) / q;
+  state.counters["tri_tests"] = static_cast<double>(total.triangle_tests) / q;
+  state.counters["hit_rate"] = static_cast<double>(hits) / q;
+  state.counters["pairs"] = static_cast<double>(pairs) / q;
+  state.counters["queries_per_s"] = benchmark::Counter(q, benchmark::Counter::kIsRate);
+  state.SetLabel(std::string(kScenarioNames[scenario]) + "/" + (all_pairs ? "all_pairs" : "first_hit") + "/" +
+                 (wide ? "collide_wide" : "collide"));
+}
+BENCHMARK(BM_WideCollide)
+    ->ArgsProduct({{0, 1}, {0, 1, 2}, {0, 1}})
+    ->ArgNames({"wide", "scenario", "all_pairs"})
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -1,0 +1,271 @@
+// collide's descent over wide trees (src/collide/wide_collide.hpp) gives collide()'s answers:
+// all_pairs the same set of triangle pairs, first_hit the same yes/no (and a pair that touches),
+// on the shipped meshes over random poses (deep overlap, near first contact on either side,
+// separated) at the origin and 1e5 away from it, and brute force's answers on small meshes.
+#include "collide/wide_collide.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "tightbvh/aabb.hpp"
+#include "tightbvh/build.hpp"
+#include "tightbvh/collide.hpp"
+#include "tightbvh/error.hpp"
+#include "tightbvh/mesh.hpp"
+#include "tightbvh/tri_tri.hpp"
+
+namespace tightbvh {
+namespace {
+
+using namespace query_detail;
+
+Mat3 random_rotation(std::mt19937_64& rng) {
+  std::normal_distribution<double> n;
+  return Eigen::Quaterniond(Eigen::Vector4d(n(rng), n(rng), n(rng), n(rng)).normalized()).toRotationMatrix();
+}
+
+Mesh shipped_mesh(const char* name) { return load_mesh(std::string(TIGHTBVH_SOURCE_DIR) + "/meshes/" + name); }
+
+struct Model {
+  Mesh mesh;
+  Tree tree;
+  WideTree wide;
+  Vec3 center;
+  double radius;
+};
+
+Model model(Mesh mesh) {
+  Model m{std::move(mesh), {}, {}, Vec3::Zero(), 0.0};
+  m.tree = build(m.mesh);
+  m.wide = build_wide(m.tree);
+  Aabb box;
+  for (const Vec3& v : m.mesh.vertices) box.extend(v);
+  m.center = box.center();
+  m.radius = 0.5 * box.diagonal();
+  return m;
+}
+
+// Checks collide_wide against collide() for B at `rel`; returns whether they touch.
+bool check_pose(const Model& a, const Model& b, const Pose& rel, const std::string& where) {
+  const QueryResult all =
+      collide(a.tree, a.mesh, Pose::identity(), b.tree, b.mesh, rel, {.mode = QueryMode::all_pairs});
+  const QueryResult wide = collide_wide(a.tree, a.wide, a.mesh, b.tree, b.wide, b.mesh, rel, QueryMode::all_pairs);
+  EXPECT_EQ(wide.pairs, all.pairs) << where;
+  EXPECT_EQ(wide.hit, all.hit) << where;
+  const QueryResult first = collide_wide(a.tree, a.wide, a.mesh, b.tree, b.wide, b.mesh, rel, QueryMode::first_hit);
+  EXPECT_EQ(first.hit, all.hit) << where;
+  if (first.hit) {
+    EXPECT_EQ(first.pairs.size(), 1u) << where;
+    if (!first.pairs.empty()) {  // the pair found touches: it is one of all_pairs'
+      EXPECT_TRUE(std::binary_search(all.pairs.begin(), all.pairs.end(), first.pairs[0])) << where;
+    }
+  }
+  EXPECT_GE(wide.stats.box_tests, 1u) << where;
+  EXPECT_GE(wide.stats.triangle_tests, wide.pairs.size()) << where;
+  return all.hit;
+}
+
+// Random poses of B about A: deep overlap (centers 0.15 (ra + rb) apart), near first contact
+// along a random direction (bisection on collide()'s first_hit answer, then 0.2% of the size
+// deeper and shallower), and separated (2% beyond first contact).
+void check_pair(const Model& a, const Model& b, int poses, std::mt19937_64& rng, const std::string& name,
+                int& touching, int& apart) {
+  std::normal_distribution<double> n;
+  const double size = a.radius + b.radius;
+  for (int i = 0; i < poses; ++i) {
+    const Mat3 rot = random_rotation(rng);
+    const Vec3 dir = Vec3(n(rng), n(rng), n(rng)).normalized();
+    const auto pose_at = [&](double d) { return Pose{rot, Vec3(a.center + d * dir - rot * b.center)}; };
+    const auto hit = [&](double d) {
+      return collide(a.tree, a.mesh, Pose::identity(), b.tree, b.mesh, pose_at(d), {}).hit;
+    };
+    double lo = 0.0, hi = size;
+    if (!hit(lo)) lo = hi;
+    for (int k = 0; k < 24 && lo < hi; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (hit(mid) ? lo : hi) = mid;
+    }
+    const std::string where = name + " pose " + std::to_string(i);
+    const double ds[] = {0.15 * size, lo - 0.002 * size, hi + 0.002 * size, hi + 0.02 * size, lo};
+    for (const double d : ds) (check_pose(a, b, pose_at(d), where + " d " + std::to_string(d)) ? touching : apart)++;
+  }
+}
+
+TEST(WideCollide, SamePairsAsCollideOnShippedMeshes) {
+  std::mt19937_64 rng(38);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (const double offset : {0.0, 1e5}) {
+    // Far from the origin: both meshes moved in their own frames.
+    const auto moved = [&](const char* name) {
+      Mesh m = shipped_mesh(name);
+      const Vec3 shift = offset * Vec3(unit(rng), unit(rng), unit(rng));
+      for (Vec3& v : m.vertices) v += shift;
+      return model(std::move(m));
+    };
+    const Model knot = moved("knot1.off"), elephant = moved("elephant.off"), fandisk = moved("fandisk.off");
+    int touching = 0, apart = 0;
+    const std::string at = " at " + std::to_string(offset);
+    check_pair(knot, elephant, 12, rng, "knot1/elephant" + at, touching, apart);
+    check_pair(elephant, fandisk, 6, rng, "elephant/fandisk" + at, touching, apart);
+    check_pair(fandisk, knot, 6, rng, "fandisk/knot1" + at, touching, apart);
+    // The poses cover both answers.
+    EXPECT_GE(touching, 40) << at;
+    EXPECT_GE(apart, 40) << at;
+  }
+}
+
+// A random soup of n triangles of size ~s in the unit cube, with some corners shared.
+Mesh soup(std::mt19937_64& rng, int n, double s) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0), small(-s, s);
+  Mesh m;
+  for (int i = 0; i < n; ++i) {
+    const Vec3 c(unit(rng), unit(rng), unit(rng));
+    const auto base = static_cast<std::uint32_t>(m.vertices.size());
+    for (int k = 0; k < 3; ++k) m.vertices.push_back(c + Vec3(small(rng), small(rng), small(rng)));
+    m.triangles.push_back({base, base + 1, base + 2});
+    if (i > 0 && i % 3 == 0) m.triangles.push_back({base, base - 1, base + 1});  // shares corners
+  }
+  return m;
+}
+
+TEST(WideCollide, SamePairsAsBruteForceOnSmallMeshes) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int hits = 0;
+  for (int round = 0; round < 12; ++round) {
+    const Model a = model(soup(rng, 120, 0.12)), b = model(soup(rng, 90, 0.15));
+    for (int p = 0; p < 4; ++p) {
+      // p == 0: B at identity (shared corner positions touch exactly).
+      const Pose rel = p == 0 ? Pose::identity()
+                              : Pose{random_rotation(rng), Vec3(0.5, 0.5, 0.5) + 0.4 * Vec3(unit(rng), unit(rng), unit(rng))};
+      const QueryResult brute = collide_brute_force(a.mesh, Pose::identity(), b.mesh, rel, {.mode = QueryMode::all_pairs});
+      const QueryResult wide = collide_wide(a.tree, a.wide, a.mesh, b.tree, b.wide, b.mesh, rel, QueryMode::all_pairs);
+      EXPECT_EQ(wide.pairs, brute.pairs) << "round " << round << " pose " << p;
+      const QueryResult first = collide_wide(a.tree, a.wide, a.mesh, b.tree, b.wide, b.mesh, rel, QueryMode::first_hit);
+      EXPECT_EQ(first.hit, brute.hit) << "round " << round << " pose " << p;
+      hits += brute.hit;
+    }
+  }
+  EXPECT_GE(hits, 24);
+}
+
+// The descent's float steps stay within their error bounds (wide_collide.cpp's derivation): along
+// random walks down knot1 and fandisk (at the origin and 1e5 away, random poses), moving B's node
+// (move_b), opening A's box (move_a, fresh), B's ref in A's node frame (t) and in A's box frame
+// (tn) are within t_err and err of their values computed in long double from the refs, each
+// step's own error within its bound's growth; and the bounds stay small against the boxes.
+TEST(WideCollide, MovedReferencePointsWithinTheirBounds) {
+  std::mt19937_64 rng(380);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int steps = 0;
+  for (const double offset : {0.0, 1e5}) {
+    Mesh ma = shipped_mesh("knot1.off"), mb = shipped_mesh("fandisk.off");
+    const Vec3 sa = offset * Vec3(unit(rng), unit(rng), unit(rng)), sb = offset * Vec3(unit(rng), unit(rng), unit(rng));
+    for (Vec3& v : ma.vertices) v += sa;
+    for (Vec3& v : mb.vertices) v += sb;
+    const Model a = model(std::move(ma)), b = model(std::move(mb));
+    const double size = a.radius + b.radius;
+    for (int pose = 0; pose < 40; ++pose) {
+      const Mat3 rot = random_rotation(rng);
+      const Pose rel{rot, a.center - rot * b.center + 0.5 * size * Vec3(unit(rng), unit(rng), unit(rng))};
+      const WideFrame f = wide_frame(rel, a.wide.eta, b.wide.eta, 0.0);
+      const auto check = [&](const DescentBox& x, const Vec3& ref_b) {
+        long double t[3], d[3];
+        for (int k = 0; k < 3; ++k) {
+          t[k] = -static_cast<long double>(x.ref_a[k]) + static_cast<long double>(rel.translation[k]);
+          for (int l = 0; l < 3; ++l)
+            t[k] += static_cast<long double>(rel.rotation(k, l)) * static_cast<long double>(ref_b[l]);
+          EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(x.t[k]) - t[k])), x.t_err);
+          d[k] = t[k] - static_cast<long double>(x.node->center[k][x.lane]);
+        }
+        for (int i = 0; i < 3; ++i) {
+          long double tn = 0.0L;
+          for (int k = 0; k < 3; ++k) tn += static_cast<long double>(x.node->axes[3 * i + k][x.lane]) * d[k];
+          EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(x.h.tn[i]) - tn)), x.err);
+        }
+        EXPECT_LT(x.err, 1e-5 * size);
+        ++steps;
+      };
+      const auto random_lane = [&](const WideNode& n) {
+        int lanes[kWideLanes], count = 0;
+        for (int l = 0; l < kWideLanes; ++l)
+          if (!is_empty_lane(n, l)) lanes[count++] = l;
+        return lanes[std::uniform_int_distribution<int>(0, count - 1)(rng)];
+      };
+      const WidePair root = wide_pair(f, a.wide.root_ref, b.wide.root_ref);
+      DescentBox x = fresh(f, a.wide.nodes[0], random_lane(a.wide.nodes[0]), a.wide.root_ref, root.t,
+                           static_cast<double>(root.t_err));
+      std::int32_t nb = 0;
+      Vec3 ref_b = b.wide.root_ref;
+      for (int step = 0; step < 40; ++step) {
+        check(x, ref_b);
+        const WideNode& n = b.wide.nodes[static_cast<std::size_t>(nb)];
+        int b_lanes[kWideLanes], nbl = 0;
+        for (int l = 0; l < kWideLanes; ++l)
+          if (!is_empty_lane(n, l) && n.count[l] == 0) b_lanes[nbl++] = l;
+        const bool a_open = x.node->count[x.lane] == 0;
+        if (nbl == 0 && !a_open) break;
+        if (nbl > 0 && (!a_open || unit(rng) < 0.6)) {  // B's side
+          const int lane = b_lanes[std::uniform_int_distribution<int>(0, nbl - 1)(rng)];
+          const Vec3 ref_c = child_ref(ref_b, n, lane);
+          const DescentBox before = x;
+          move_b(x, n, lane, ref_c, f.r0);
+          // The step alone is within the bound's growth: tn and t moved by A^T R0 (ref_c - ref_b)
+          // and R0 (ref_c - ref_b), computed in long double.
+          long double moved[3];
+          for (int k = 0; k < 3; ++k) {
+            moved[k] = 0.0L;
+            for (int l = 0; l < 3; ++l)
+              moved[k] += static_cast<long double>(rel.rotation(k, l)) *
+                          (static_cast<long double>(ref_c[l]) - static_cast<long double>(ref_b[l]));
+            EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(x.t[k]) -
+                                                   static_cast<long double>(before.t[k]) - moved[k])),
+                      x.t_err - before.t_err);
+          }
+          for (int i = 0; i < 3; ++i) {
+            long double step = 0.0L;
+            for (int k = 0; k < 3; ++k) step += static_cast<long double>(x.node->axes[3 * i + k][x.lane]) * moved[k];
+            EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(x.h.tn[i]) -
+                                                   static_cast<long double>(before.h.tn[i]) - step)),
+                      x.err - before.err);
+          }
+          nb = n.child[lane];
+          ref_b = ref_c;
+        } else {  // A's side
+          const Vec3 ref_c = child_ref(x.ref_a, *x.node, x.lane);
+          float t[3];
+          double t_err = 0.0;
+          move_a(x, ref_c, t, t_err);
+          for (int k = 0; k < 3; ++k)  // the step alone: t moved by -(ref_c - ref_a)
+            EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(t[k]) - static_cast<long double>(x.t[k]) +
+                                                   (static_cast<long double>(ref_c[k]) -
+                                                    static_cast<long double>(x.ref_a[k])))),
+                      t_err - x.t_err);
+          const WideNode& na = a.wide.nodes[static_cast<std::size_t>(x.node->child[x.lane])];
+          x = fresh(f, na, random_lane(na), ref_c, t, t_err);
+        }
+      }
+    }
+  }
+  EXPECT_GE(steps, 1000);
+}
+
+TEST(WideCollide, EmptyTreesAndBadPose) {
+  const Model a = model(shipped_mesh("knot1.off"));
+  const QueryResult none = collide_wide(a.tree, WideTree{}, a.mesh, a.tree, a.wide, a.mesh, Pose::identity(),
+                                        QueryMode::all_pairs);
+  EXPECT_FALSE(none.hit);
+  Pose bad = Pose::identity();
+  bad.translation.x() = std::nan("");
+  EXPECT_THROW((void)collide_wide(a.tree, a.wide, a.mesh, a.tree, a.wide, a.mesh, bad, QueryMode::first_hit),
+               InputError);
+}
+
+}  // namespace
+}  // namespace tightbvh

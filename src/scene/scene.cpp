@@ -330,6 +330,15 @@ void check_max_distance(double d) {
   if (!(d > 0.0)) throw InputError("scene distance_within: max_distance must be > 0, got " + std::to_string(d));
 }
 
+// A shape–model pair's two objects, in whichever order the query has them.
+struct ShapeModel {
+  const SceneObject& shape;
+  const SceneObject& model;
+  bool shape_is_a;
+  ShapeModel(const SceneObject& a, const SceneObject& b)
+      : shape(a.shape ? a : b), model(a.shape ? b : a), shape_is_a(a.shape.has_value()) {}
+};
+
 // The pair query of two scene objects, whichever kinds they are (scene.hpp, SceneObject).
 QueryResult pair_collide(const SceneObject& a, const SceneObject& b, const QueryOptions& options,
                          QueryWorkspace& workspace) {
@@ -340,16 +349,14 @@ QueryResult pair_collide(const SceneObject& a, const SceneObject& b, const Query
     r.hit = distance(*a.shape, a.pose, *b.shape, b.pose).distance <= options.margin;
     return r;
   }
-  const bool shape_is_a = a.shape.has_value();
-  const SceneObject& shape = shape_is_a ? a : b;
-  const SceneObject& model = shape_is_a ? b : a;
+  const ShapeModel p(a, b);
   QueryOptions o = options;
   o.solid = false;  // shapes are solids already; see SceneObject
-  const ShapeQueryResult q =
-      std::visit([&](const auto& s) { return collide(s, shape.pose, *model.model, model.pose, o); }, *shape.shape);
+  const ShapeQueryResult q = std::visit(
+      [&](const auto& s) { return collide(s, p.shape.pose, *p.model.model, p.model.pose, o); }, *p.shape.shape);
   r.hit = q.hit;
   r.stats = q.stats;
-  for (const std::uint32_t t : q.triangles) r.pairs.push_back(shape_is_a ? TrianglePair{0, t} : TrianglePair{t, 0});
+  for (const std::uint32_t t : q.triangles) r.pairs.push_back(p.shape_is_a ? TrianglePair{0, t} : TrianglePair{t, 0});
   return r;
 }
 
@@ -369,20 +376,18 @@ DistanceResult pair_distance(const SceneObject& a, const SceneObject& b, const D
     r.point_a = d.point_a;
     r.point_b = d.point_b;
   } else {
-    const bool shape_is_a = a.shape.has_value();
-    const SceneObject& shape = shape_is_a ? a : b;
-    const SceneObject& model = shape_is_a ? b : a;
+    const ShapeModel p(a, b);
     DistanceOptions o = options;
     o.solid = false;  // see SceneObject
-    const ShapeDistanceResult d =
-        std::visit([&](const auto& s) { return distance(s, shape.pose, *model.model, model.pose, o); }, *shape.shape);
+    const ShapeDistanceResult d = std::visit(
+        [&](const auto& s) { return distance(s, p.shape.pose, *p.model.model, p.model.pose, o); }, *p.shape.shape);
     r.distance = d.distance;
     r.beyond_upper_bound = d.beyond_upper_bound;
     r.stats = d.stats;
     if (r.beyond_upper_bound) return r;
-    r.pair = shape_is_a ? TrianglePair{0, d.triangle} : TrianglePair{d.triangle, 0};
-    r.point_a = shape_is_a ? d.point_shape : d.point_mesh;
-    r.point_b = shape_is_a ? d.point_mesh : d.point_shape;
+    r.pair = p.shape_is_a ? TrianglePair{0, d.triangle} : TrianglePair{d.triangle, 0};
+    r.point_a = p.shape_is_a ? d.point_shape : d.point_mesh;
+    r.point_b = p.shape_is_a ? d.point_mesh : d.point_shape;
   }
   r.point_a_local = a.pose.inverse().apply(r.point_a);
   r.point_b_local = b.pose.inverse().apply(r.point_b);

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "query_fixtures.hpp"
 #include "tightbvh/aabb.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
@@ -25,10 +26,7 @@ namespace {
 
 using namespace query_detail;
 
-Mat3 random_rotation(std::mt19937_64& rng) {
-  std::normal_distribution<double> n;
-  return Eigen::Quaterniond(Eigen::Vector4d(n(rng), n(rng), n(rng), n(rng)).normalized()).toRotationMatrix();
-}
+using query_test::random_rotation;
 
 Mesh shipped_mesh(const char* name) { return load_mesh(std::string(TIGHTBVH_SOURCE_DIR) + "/meshes/" + name); }
 

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "query_fixtures.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/error.hpp"
 #include "tightbvh/mesh.hpp"
@@ -29,10 +30,7 @@ namespace {
 
 using namespace query_detail;
 
-Mat3 random_rotation(std::mt19937_64& rng) {
-  std::normal_distribution<double> n;
-  return Eigen::Quaterniond(Eigen::Vector4d(n(rng), n(rng), n(rng), n(rng)).normalized()).toRotationMatrix();
-}
+using query_test::random_rotation;
 
 // A box of scale `s` with random axes (or `axes`) that contains `p`: p's coordinates in the box
 // are random, or (each with probability 1/2) exactly +-e_i, so that p lies on a face, an edge or

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "query_common.hpp"
+#include "tri_lanes.hpp"
 #include "tightbvh/compact_box.hpp"
 #include "tightbvh/error.hpp"
 #include "tightbvh/obb_distance.hpp"
@@ -37,6 +38,32 @@ constexpr double kShapeSkew = 1e-5;
 // coordinates' scale: far above the rounding of the projections (about 3e-16 of that), so an
 // axis that separates the computed projections also separates the exact ones.
 constexpr double kSeparationSlack = 1e-10;
+
+// A triangle's lower bound (triangle_lower_bound()) is shrunk by this relative amount and by this
+// times the coordinates' scale before it rules a triangle out, far above the bound's and the
+// measure's rounding (a few units of 2^-53 of the scale), so a triangle is skipped only when its
+// computed distance is not below the best one.
+constexpr double kTriangleBoundSlack = 1e-9;
+
+// A lower bound from (raw distance, scale): shrunk by kTriangleBoundSlack as above.
+[[nodiscard]] double shrunk_bound(double raw, double scale) {
+  return raw * (1.0 - kTriangleBoundSlack) - kTriangleBoundSlack * scale;
+}
+
+// The gap between the intervals [lo_a, hi_a] and [lo_b, hi_b] (0 when they overlap).
+[[nodiscard]] double interval_gap(double lo_a, double hi_a, double lo_b, double hi_b) {
+  return std::max({0.0, lo_a - hi_b, lo_b - hi_a});
+}
+
+// A lower bound of the distance from the triangle (a, b, c) to the convex set whose extent along
+// the triangle's normal n (any length) is [lo, hi] about the plane through a: the triangle's
+// plane is n . (x - a) = 0, so every point of the set is at least the gap over |n| from it.
+// 0 for a degenerate triangle.
+[[nodiscard]] double plane_gap(const Vec3& n, double lo, double hi) {
+  const double length = n.norm();
+  if (!(length > 0.0)) return 0.0;
+  return interval_gap(lo, hi, 0.0, 0.0) / length;
+}
 
 [[nodiscard]] std::string number(double x) {
   std::ostringstream s;
@@ -140,6 +167,24 @@ struct PlacedCapsule {
     }
     return std::max(0.0, std::sqrt(sum) * (1.0 - kCompactBoxSlack) - allowance - radius);
   }
+  // A lower bound of measure(a, b, c).distance, far cheaper than it, to rule a triangle out of the
+  // distance search: the larger of the gap between the triangle's and the axis segment's
+  // bounding boxes and the axis segment's gap to the triangle's plane, less the radius.
+  [[nodiscard]] double triangle_lower_bound(const Vec3& a, const Vec3& b, const Vec3& c) const {
+    const Vec3 lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
+    const Vec3 slo = p.cwiseMin(q), shi = p.cwiseMax(q);
+    double boxes = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double g = interval_gap(lo[k], hi[k], slo[k], shi[k]);
+      boxes += g * g;
+    }
+    const Vec3 n = (b - a).cross(c - a);
+    const double dp = n.dot(p - a), dq = n.dot(q - a);
+    const double raw = std::max(std::sqrt(boxes), plane_gap(n, std::min(dp, dq), std::max(dp, dq)));
+    const double scale = std::max({hi.cwiseAbs().maxCoeff(), lo.cwiseAbs().maxCoeff(), shi.cwiseAbs().maxCoeff(),
+                                   slo.cwiseAbs().maxCoeff()});
+    return shrunk_bound(raw, scale) - radius;
+  }
   [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
     const double d = tri_tri_distance(p, q, q, a, b, c).distance;
     return d <= radius || d - radius <= margin;
@@ -152,27 +197,27 @@ struct PlacedBox {
   Pose to_box;  // mesh frame to box frame: the inverse of the shape's relative pose
   Pose to_mesh;
   Vec3 h;
-  std::array<std::array<Vec3, 3>, 12> surface;
   Obb box;
 
   PlacedBox(const Box& s, const Pose& rel)
-      : to_box(rel.inverse()), to_mesh(rel), h(0.5 * s.size), box{rel.translation, rel.rotation, 0.5 * s.size} {
-    int n = 0;
-    for (int k = 0; k < 3; ++k) {
-      const int i = (k + 1) % 3, j = (k + 2) % 3;
-      for (const double side : {-1.0, 1.0}) {
-        // The face x_k = side h_k: corners (-,-), (+,-), (+,+), (-,+) in (x_i, x_j).
-        std::array<Vec3, 4> q;
-        const double si[4] = {-1.0, 1.0, 1.0, -1.0}, sj[4] = {-1.0, -1.0, 1.0, 1.0};
-        for (int m = 0; m < 4; ++m) {
-          q[m][k] = side * h[k];
-          q[m][i] = si[m] * h[i];
-          q[m][j] = sj[m] * h[j];
-        }
-        surface[n++] = {q[0], q[1], q[2]};
-        surface[n++] = {q[0], q[2], q[3]};
-      }
-    }
+      : to_box(rel.inverse()), to_mesh(rel), h(0.5 * s.size), box{rel.translation, rel.rotation, 0.5 * s.size} {}
+
+  // Surface triangle s (0..11), made when needed rather than per query (collide rarely needs
+  // one): triangles 2f and 2f + 1 cover face f, which is x_k = -h_k for f = 2k and x_k = h_k for
+  // f = 2k + 1; with (i, j) = (k + 1, k + 2) mod 3, the face's corners (-,-), (+,-), (+,+), (-,+)
+  // in (x_i, x_j) are split along the diagonal from the first to the third.
+  [[nodiscard]] std::array<Vec3, 3> surface(int s) const {
+    const int f = s / 2, k = f / 2, i = (k + 1) % 3, j = (k + 2) % 3;
+    const double side = (f % 2 == 0 ? -1.0 : 1.0) * h[k];
+    const auto corner = [&](double si, double sj) {
+      Vec3 q;
+      q[k] = side;
+      q[i] = si * h[i];
+      q[j] = sj * h[j];
+      return q;
+    };
+    if (s % 2 == 0) return {corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0)};
+    return {corner(-1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)};
   }
 
   [[nodiscard]] std::array<Vec3, 3> mapped(const Vec3& a, const Vec3& b, const Vec3& c) const {
@@ -214,8 +259,10 @@ struct PlacedBox {
   [[nodiscard]] int touching(const std::array<Vec3, 3>& v) const {
     for (int i = 0; i < 3; ++i)
       if ((v[i].cwiseAbs().array() <= h.array()).all()) return i;
-    for (int s = 0; s < 12; ++s)
-      if (tri_tri_overlap(surface[s][0], surface[s][1], surface[s][2], v[0], v[1], v[2])) return 3 + s;
+    for (int s = 0; s < 12; ++s) {
+      const std::array<Vec3, 3> t = surface(s);
+      if (tri_tri_overlap(t[0], t[1], t[2], v[0], v[1], v[2])) return 3 + s;
+    }
     return -1;
   }
 
@@ -235,38 +282,120 @@ struct PlacedBox {
     return faces;
   }
 
+  // The closest points of the box and a disjoint triangle (box frame, `faces` = facing(v)).
+  // Two disjoint convex polytopes are closest at a vertex of one against the other or at an edge
+  // of each (a face-interior pair is parallel and its distance is also met on a boundary), and the
+  // box's closest point lies on a facing face (above). So the candidates are: each triangle corner
+  // against the solid box (clamped to [-h, h], exact); each box corner of a facing face against
+  // the triangle (closest_point_on_triangle, Ericson §5.1.5); each box edge of a facing face
+  // against each triangle edge (Ericson §5.1.9, tri_lanes.hpp). Where two edges are nearly
+  // parallel the segment solve may lose digits, but its points still lie on the segments, and the
+  // pair's closest points are then at (or next to) an endpoint: a box edge's endpoints are corner
+  // candidates, a triangle edge's are clamp candidates, each against the whole other solid. The
+  // same minimum as the 12 surface triangles' tri_tri_distance, without their diagonals and face
+  // projections.
+  [[nodiscard]] TriangleDistance disjoint_distance(const std::array<Vec3, 3>& v, unsigned faces) const {
+    double best = std::numeric_limits<double>::infinity();
+    Vec3 on_box = Vec3::Zero(), on_triangle = Vec3::Zero();
+    const auto offer = [&](const Vec3& x, const Vec3& y) {
+      const double d2 = (x - y).squaredNorm();
+      if (d2 < best) best = d2, on_box = x, on_triangle = y;
+    };
+    for (const Vec3& corner : v) offer(corner.cwiseMax(-h).cwiseMin(h), corner);
+    // Corner m has x_k = h_k where bit k of m is set; face (k, side) holds the corners whose bit
+    // k equals side.
+    const auto corner = [&](unsigned m) {
+      return Vec3((m & 1u) != 0 ? h.x() : -h.x(), (m & 2u) != 0 ? h.y() : -h.y(), (m & 4u) != 0 ? h.z() : -h.z());
+    };
+    const auto on_face = [&](unsigned m) {
+      for (int k = 0; k < 3; ++k)
+        if ((faces >> (2 * k + ((m >> k) & 1u)) & 1u) != 0) return true;
+      return false;
+    };
+    // A candidate is skipped when the bounding boxes of its two parts are already at least the
+    // best distance apart (squared, no root): most corners and edges of the box are.
+    const auto boxes_gap2 = [](const Vec3& lo_a, const Vec3& hi_a, const Vec3& lo_b, const Vec3& hi_b) {
+      double sum = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const double g = interval_gap(lo_a[k], hi_a[k], lo_b[k], hi_b[k]);
+        sum += g * g;
+      }
+      return sum;
+    };
+    const Vec3 lo = v[0].cwiseMin(v[1]).cwiseMin(v[2]), hi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
+    for (unsigned m = 0; m < 8; ++m) {
+      if (!on_face(m)) continue;
+      const Vec3 x = corner(m);
+      if (boxes_gap2(x, x, lo, hi) >= best) continue;
+      offer(x, closest_point_on_triangle(x, v[0], v[1], v[2]).point);
+    }
+    // The edge along axis k from corner m (bit k clear) to m | (1 << k): on a facing face when
+    // either of its corners' other two faces faces the triangle.
+    for (int k = 0; k < 3; ++k) {
+      for (unsigned m = 0; m < 8; ++m) {
+        if ((m >> k & 1u) != 0) continue;
+        bool facing_edge = false;
+        for (int i = 0; i < 3; ++i)
+          if (i != k && (faces >> (2 * i + ((m >> i) & 1u)) & 1u) != 0) facing_edge = true;
+        if (!facing_edge) continue;
+        const Vec3 p0 = corner(m), p1 = corner(m | (1u << k));
+        const double e0[3] = {p0.x(), p0.y(), p0.z()}, e1[3] = {p1.x(), p1.y(), p1.z()};
+        for (int j = 0; j < 3; ++j) {
+          const Vec3& q0 = v[j];
+          const Vec3& q1 = v[(j + 1) % 3];
+          if (boxes_gap2(p0, p1, q0.cwiseMin(q1), q0.cwiseMax(q1)) >= best) continue;
+          const double f0[3] = {q0.x(), q0.y(), q0.z()}, f1[3] = {q1.x(), q1.y(), q1.z()};
+          double xp[3], xq[3];
+          bool parallel = false;
+          (void)query_detail::tri_segment_segment<double, bool>(e0, e1, f0, f1, xp, xq, parallel);
+          offer(Vec3(xp[0], xp[1], xp[2]), Vec3(xq[0], xq[1], xq[2]));
+        }
+      }
+    }
+    TriangleDistance d;
+    d.distance = std::max(std::sqrt(best), std::numeric_limits<double>::min());  // disjoint: never 0
+    d.point_p = on_box;
+    d.point_q = on_triangle;
+    return d;
+  }
+
   [[nodiscard]] Measure measure(const Vec3& a, const Vec3& b, const Vec3& c) const {
     const std::array<Vec3, 3> v = mapped(a, b, c);
     const int touch = separated(v, 0.0) ? -1 : touching(v);
     if (touch >= 0) {
-      Vec3 point = touch < 3 ? v[touch] : tri_tri_distance(surface[touch - 3], v).point_q;
+      Vec3 point = touch < 3 ? v[touch] : tri_tri_distance(surface(touch - 3), v).point_q;
       point = to_mesh.apply(point);
       return {0.0, point, point};
     }
-    const unsigned faces = facing(v);
-    TriangleDistance best;
-    bool found = false;
-    for (int s = 0; s < 12; ++s) {
-      if ((faces >> (s / 2) & 1u) == 0) continue;
-      const TriangleDistance d = tri_tri_distance(surface[s], v);
-      if (!found || d.distance < best.distance) best = d, found = true;
-    }
+    const TriangleDistance best = disjoint_distance(v, facing(v));
     return {best.distance, to_mesh.apply(best.point_p), to_mesh.apply(best.point_q)};
   }
   [[nodiscard]] double lower_bound(const CompactBox& node, double allowance) const {
     return box_bound(node, box, allowance);
+  }
+  // A lower bound of measure(a, b, c).distance, far cheaper than it (box frame): the larger of the
+  // gap between the triangle's bounding box and the box, and the box's gap to the triangle's
+  // plane (its extent along the normal n is n . 0 -+ |n| . h).
+  [[nodiscard]] double triangle_lower_bound(const Vec3& a, const Vec3& b, const Vec3& c) const {
+    const std::array<Vec3, 3> v = mapped(a, b, c);
+    const Vec3 lo = v[0].cwiseMin(v[1]).cwiseMin(v[2]), hi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
+    double boxes = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double g = interval_gap(lo[k], hi[k], -h[k], h[k]);
+      boxes += g * g;
+    }
+    const Vec3 n = (v[1] - v[0]).cross(v[2] - v[0]);
+    const double reach = n.cwiseAbs().dot(h), at = -n.dot(v[0]);
+    const double raw = std::max(std::sqrt(boxes), plane_gap(n, at - reach, at + reach));
+    const double scale = std::max({hi.cwiseAbs().maxCoeff(), lo.cwiseAbs().maxCoeff(), h.maxCoeff()});
+    return shrunk_bound(raw, scale);
   }
   [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
     const std::array<Vec3, 3> v = mapped(a, b, c);
     if (separated(v, margin)) return false;
     if (touching(v) >= 0) return true;
     if (margin == 0.0) return false;
-    const unsigned faces = facing(v);
-    for (int s = 0; s < 12; ++s)
-      if ((faces >> (s / 2) & 1u) != 0 &&
-          tri_tri_within(surface[s][0], surface[s][1], surface[s][2], v[0], v[1], v[2], margin))
-        return true;
-    return false;
+    return disjoint_distance(v, facing(v)).distance <= margin;  // measure()'s arithmetic
   }
 };
 
@@ -456,6 +585,9 @@ template <class P>
     for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
       const std::uint32_t t = tree.triangle_order[k];
       const auto [a, b, c] = mesh.corners(t);
+      if constexpr (requires { placed.triangle_lower_bound(a, b, c); }) {
+        if (placed.triangle_lower_bound(a, b, c) >= (best.found ? best.at.distance : options.upper_bound)) continue;
+      }
       ++stats.triangle_pairs;
       const Measure m = placed.measure(a, b, c);
       if (best.found ? m.distance < best.at.distance : m.distance < options.upper_bound) best = {true, t, m};

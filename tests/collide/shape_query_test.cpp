@@ -203,6 +203,51 @@ TEST(ShapeQuery, BoxDistanceMatchesAllTwelveSurfaceTriangles) {
   EXPECT_GT(touching, 0);
 }
 
+// The same reference triangle by triangle (each its own one-triangle mesh), so that no candidate
+// of the box–triangle distance hides behind another triangle's minimum: a random soup with
+// segments and points among its triangles, and a cube whose edges are parallel to the box's
+// (boxes at the identity and at quarter turns, so edge pairs are exactly parallel).
+TEST(ShapeQuery, BoxDistanceEachTriangleAgainstTwelveSurfaceTriangles) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(0.1, 0.8);
+  const Mat3 quarter = Eigen::AngleAxisd(0.5 * M_PI, Vec3::UnitZ()).toRotationMatrix();
+  int apart = 0;
+  for (const Mesh& mesh : {qt::random_soup(40, 5), qt::cube(Vec3(-0.5, -0.5, -0.5), 1.0)}) {
+    for (int i = 0; i < 12; ++i) {
+      const Vec3 h(u(rng), u(rng), u(rng));
+      const Box box(2.0 * h);
+      const Mat3 r = i % 3 == 0 ? Mat3::Identity() : i % 3 == 1 ? quarter : qt::random_rotation(rng);
+      const Pose ps{r, 2.0 * Vec3(u(rng), -u(rng), 0.5 * u(rng))};
+      const Pose to_box = ps.inverse();
+      for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+        const auto [a, b, c] = mesh.corners(t);
+        const Mesh one{{a, b, c}, {Triangle{0, 1, 2}}};
+        const std::array<Vec3, 3> v = {to_box.apply(a), to_box.apply(b), to_box.apply(c)};
+        double want = std::numeric_limits<double>::infinity();
+        for (const Vec3& x : v)
+          if ((x.cwiseAbs().array() <= h.array()).all()) want = 0.0;
+        for (int k = 0; k < 3; ++k)
+          for (const double side : {-1.0, 1.0}) {
+            const int e = (k + 1) % 3, f = (k + 2) % 3;
+            std::array<Vec3, 4> q;
+            for (int m = 0; m < 4; ++m) {
+              q[m][k] = side * h[k];
+              q[m][e] = (m == 1 || m == 2 ? 1.0 : -1.0) * h[e];
+              q[m][f] = (m >= 2 ? 1.0 : -1.0) * h[f];
+            }
+            want = std::min({want, tri_tri_distance({q[0], q[1], q[2]}, v).distance,
+                             tri_tri_distance({q[0], q[2], q[3]}, v).distance});
+          }
+        const ShapeDistanceResult got = distance_brute_force(box, ps, one, Pose{});
+        EXPECT_NEAR(got.distance, want, 1e-12 * (1.0 + want)) << "pose " << i << " triangle " << t;
+        EXPECT_NEAR((got.point_shape - got.point_mesh).norm(), got.distance, 1e-12 * (1.0 + want));
+        apart += want > 0.0 ? 1 : 0;
+      }
+    }
+  }
+  EXPECT_GT(apart, 200);
+}
+
 // The unit cube [0, 1]^3: shapes tangent to its top face (z = 1) touch it; a hair above they do not.
 TEST(ShapeQuery, ExactlyTangentTouches) {
   const Mesh cube = qt::cube();

@@ -484,8 +484,14 @@ template <class P>
     const query_detail::BoxFrame f = frame_of(node.box, placed.box);
     if (!obb_overlap(f.c, f.d, node.box.half_extents_d(), placed.box.half_extents, allowance)) continue;
     if (!node.is_leaf()) {
-      stack.push_back(node.first + 1);
-      stack.push_back(node.first);
+      // first_hit: the child whose center is nearer the shape's goes on top, as it is likelier to
+      // hold a touching triangle (all_pairs visits both anyway).
+      std::uint32_t near = node.first, far = node.first + 1;
+      if (!all && (tree.nodes[far].box.center_d() - placed.box.center).squaredNorm() <
+                      (tree.nodes[near].box.center_d() - placed.box.center).squaredNorm())
+        std::swap(near, far);
+      stack.push_back(far);
+      stack.push_back(near);
       continue;
     }
     for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {

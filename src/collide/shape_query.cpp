@@ -39,30 +39,27 @@ constexpr double kShapeSkew = 1e-5;
 // axis that separates the computed projections also separates the exact ones.
 constexpr double kSeparationSlack = 1e-10;
 
-// A triangle's lower bound (triangle_lower_bound()) is shrunk by this relative amount and by this
-// times the coordinates' scale before it rules a triangle out, far above the bound's and the
-// measure's rounding (a few units of 2^-53 of the scale), so a triangle is skipped only when its
-// computed distance is not below the best one.
+// A triangle's lower bound (ruled_out()) is shrunk by this relative amount and by this times the
+// coordinates' scale before it rules a triangle out, far above the bound's and the measure's
+// rounding (a few units of 2^-53 of the scale), so a triangle is skipped only when its computed
+// distance is not below the best one.
 constexpr double kTriangleBoundSlack = 1e-9;
 
-// A lower bound from (raw distance, scale): shrunk by kTriangleBoundSlack as above.
-[[nodiscard]] double shrunk_bound(double raw, double scale) {
-  return raw * (1.0 - kTriangleBoundSlack) - kTriangleBoundSlack * scale;
+// A point is strictly on one side of a triangle's plane when n . (x - a) (n = (b - a) x (c - a))
+// exceeds this times (|b - a|_1 |c - a|_1 + |n|_1) |x - a|_1: the rounding of n (its products and
+// differences) and of the dot product stay below about 10 units of 2^-53 of that, so the
+// computed side is the exact side of the given coordinates.
+constexpr double kPlaneSideSlack = 1e-12;
+
+// The least distance between the triangle and the shape's core (before the radius) that rules the
+// triangle out against `limit` (the best distance so far), shrunk as kTriangleBoundSlack says.
+[[nodiscard]] double needed_gap(double limit, double radius, double scale) {
+  return (limit + radius + kTriangleBoundSlack * scale) / (1.0 - kTriangleBoundSlack);
 }
 
 // The gap between the intervals [lo_a, hi_a] and [lo_b, hi_b] (0 when they overlap).
 [[nodiscard]] double interval_gap(double lo_a, double hi_a, double lo_b, double hi_b) {
   return std::max({0.0, lo_a - hi_b, lo_b - hi_a});
-}
-
-// A lower bound of the distance from the triangle (a, b, c) to the convex set whose extent along
-// the triangle's normal n (any length) is [lo, hi] about the plane through a: the triangle's
-// plane is n . (x - a) = 0, so every point of the set is at least the gap over |n| from it.
-// 0 for a degenerate triangle.
-[[nodiscard]] double plane_gap(const Vec3& n, double lo, double hi) {
-  const double length = n.norm();
-  if (!(length > 0.0)) return 0.0;
-  return interval_gap(lo, hi, 0.0, 0.0) / length;
 }
 
 [[nodiscard]] std::string number(double x) {
@@ -149,8 +146,54 @@ struct PlacedCapsule {
         radius(s.radius),
         box{rel.translation, rel.rotation, Vec3(s.radius, s.radius, 0.5 * s.length + s.radius)} {}
 
+  // The distance from the axis segment to the triangle, exactly 0 iff they touch. When both
+  // endpoints are strictly on one side of the triangle's plane (by more than kPlaneSideSlack of
+  // the scale of the side's computation, far above its rounding), they are disjoint and closest
+  // at an endpoint against the triangle (closest_point_on_triangle, Ericson §5.1.5) or at the
+  // segment against an edge (Ericson §5.1.9; a corner against the segment backs up nearly
+  // parallel edges, as in tri_distance.cpp): a tenth of tri_tri_distance's work on the
+  // degenerate triangle (p, q, q). Otherwise (crossing the plane, near it, or a degenerate
+  // triangle) tri_tri_distance decides exactly.
+  [[nodiscard]] TriangleDistance segment_distance(const Vec3& a, const Vec3& b, const Vec3& c) const {
+    const Vec3 ab = b - a, ac = c - a, ap = p - a, aq = q - a;
+    const Vec3 n = ab.cross(ac);
+    const double sp = n.dot(ap), sq = n.dot(aq);
+    const double size = ab.cwiseAbs().sum() * ac.cwiseAbs().sum() + n.cwiseAbs().sum();
+    const double slack_p = kPlaneSideSlack * size * ap.cwiseAbs().sum(),
+                 slack_q = kPlaneSideSlack * size * aq.cwiseAbs().sum();
+    if (!((sp > slack_p && sq > slack_q) || (sp < -slack_p && sq < -slack_q))) return tri_tri_distance(p, q, q, a, b, c);
+    double best = std::numeric_limits<double>::infinity();
+    Vec3 on_segment = p, on_triangle = a;
+    const auto offer = [&](const Vec3& x, const Vec3& y) {
+      const double d2 = (x - y).squaredNorm();
+      if (d2 < best) best = d2, on_segment = x, on_triangle = y;
+    };
+    offer(p, closest_point_on_triangle(p, a, b, c).point);
+    offer(q, closest_point_on_triangle(q, a, b, c).point);
+    const double s0[3] = {p.x(), p.y(), p.z()}, s1[3] = {q.x(), q.y(), q.z()};
+    const Vec3 pq = q - p;
+    const double length2 = pq.squaredNorm();
+    const std::array<const Vec3*, 3> corners = {&a, &b, &c};
+    for (int j = 0; j < 3; ++j) {
+      const Vec3& e0 = *corners[j];
+      const Vec3& e1 = *corners[(j + 1) % 3];
+      const double f0[3] = {e0.x(), e0.y(), e0.z()}, f1[3] = {e1.x(), e1.y(), e1.z()};
+      double xp[3], xq[3];
+      bool parallel = false;
+      (void)query_detail::tri_segment_segment<double, bool>(s0, s1, f0, f1, xp, xq, parallel);
+      offer(Vec3(xp[0], xp[1], xp[2]), Vec3(xq[0], xq[1], xq[2]));
+      const double t = length2 > 0.0 ? std::clamp((e0 - p).dot(pq) / length2, 0.0, 1.0) : 0.0;
+      offer(p + t * pq, e0);
+    }
+    TriangleDistance d;
+    d.distance = std::max(std::sqrt(best), std::numeric_limits<double>::min());  // disjoint: never 0
+    d.point_p = on_segment;
+    d.point_q = on_triangle;
+    return d;
+  }
+
   [[nodiscard]] Measure measure(const Vec3& a, const Vec3& b, const Vec3& c) const {
-    const TriangleDistance t = tri_tri_distance(p, q, q, a, b, c);
+    const TriangleDistance t = segment_distance(a, b, c);
     return rounded_measure(t.point_p, t.point_q, t.distance, radius);
   }
   // The distance from the axis segment to the node's float slab box, bounded per axis a_i: the
@@ -167,10 +210,12 @@ struct PlacedCapsule {
     }
     return std::max(0.0, std::sqrt(sum) * (1.0 - kCompactBoxSlack) - allowance - radius);
   }
-  // A lower bound of measure(a, b, c).distance, far cheaper than it, to rule a triangle out of the
-  // distance search: the larger of the gap between the triangle's and the axis segment's
-  // bounding boxes and the axis segment's gap to the triangle's plane, less the radius.
-  [[nodiscard]] double triangle_lower_bound(const Vec3& a, const Vec3& b, const Vec3& c) const {
+  // Whether measure(a, b, c).distance is surely not below `limit`, far cheaper than measuring:
+  // the gap between the triangle's and the axis segment's bounding boxes, then the axis segment's
+  // gap to the triangle's plane (over |n|), against the radius plus the limit (needed_gap()).
+  // Squared, without a root or a division.
+  [[nodiscard]] bool ruled_out(const Vec3& a, const Vec3& b, const Vec3& c, double limit) const {
+    if (!(limit < std::numeric_limits<double>::infinity())) return false;
     const Vec3 lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
     const Vec3 slo = p.cwiseMin(q), shi = p.cwiseMax(q);
     double boxes = 0.0;
@@ -178,15 +223,18 @@ struct PlacedCapsule {
       const double g = interval_gap(lo[k], hi[k], slo[k], shi[k]);
       boxes += g * g;
     }
-    const Vec3 n = (b - a).cross(c - a);
-    const double dp = n.dot(p - a), dq = n.dot(q - a);
-    const double raw = std::max(std::sqrt(boxes), plane_gap(n, std::min(dp, dq), std::max(dp, dq)));
     const double scale = std::max({hi.cwiseAbs().maxCoeff(), lo.cwiseAbs().maxCoeff(), shi.cwiseAbs().maxCoeff(),
                                    slo.cwiseAbs().maxCoeff()});
-    return shrunk_bound(raw, scale) - radius;
+    const double need = needed_gap(limit, radius, scale);
+    if (boxes >= need * need) return true;
+    const Vec3 n = (b - a).cross(c - a);
+    const double dp = n.dot(p - a), dq = n.dot(q - a);
+    const double gap = interval_gap(std::min(dp, dq), std::max(dp, dq), 0.0, 0.0);
+    const double n2 = n.squaredNorm();  // 0 for a degenerate triangle: no plane to bound by
+    return n2 > 0.0 && gap * gap >= need * need * n2;
   }
   [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
-    const double d = tri_tri_distance(p, q, q, a, b, c).distance;
+    const double d = segment_distance(a, b, c).distance;
     return d <= radius || d - radius <= margin;
   }
 };
@@ -373,10 +421,11 @@ struct PlacedBox {
   [[nodiscard]] double lower_bound(const CompactBox& node, double allowance) const {
     return box_bound(node, box, allowance);
   }
-  // A lower bound of measure(a, b, c).distance, far cheaper than it (box frame): the larger of the
-  // gap between the triangle's bounding box and the box, and the box's gap to the triangle's
-  // plane (its extent along the normal n is n . 0 -+ |n| . h).
-  [[nodiscard]] double triangle_lower_bound(const Vec3& a, const Vec3& b, const Vec3& c) const {
+  // Whether measure(a, b, c).distance is surely not below `limit` (box frame), as the capsule's:
+  // the gap between the triangle's bounding box and the box, then the box's gap to the
+  // triangle's plane (its extent along the normal n is n . 0 -+ |n| . h).
+  [[nodiscard]] bool ruled_out(const Vec3& a, const Vec3& b, const Vec3& c, double limit) const {
+    if (!(limit < std::numeric_limits<double>::infinity())) return false;
     const std::array<Vec3, 3> v = mapped(a, b, c);
     const Vec3 lo = v[0].cwiseMin(v[1]).cwiseMin(v[2]), hi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
     double boxes = 0.0;
@@ -384,11 +433,14 @@ struct PlacedBox {
       const double g = interval_gap(lo[k], hi[k], -h[k], h[k]);
       boxes += g * g;
     }
+    const double scale = std::max({hi.cwiseAbs().maxCoeff(), lo.cwiseAbs().maxCoeff(), h.maxCoeff()});
+    const double need = needed_gap(limit, 0.0, scale);
+    if (boxes >= need * need) return true;
     const Vec3 n = (v[1] - v[0]).cross(v[2] - v[0]);
     const double reach = n.cwiseAbs().dot(h), at = -n.dot(v[0]);
-    const double raw = std::max(std::sqrt(boxes), plane_gap(n, at - reach, at + reach));
-    const double scale = std::max({hi.cwiseAbs().maxCoeff(), lo.cwiseAbs().maxCoeff(), h.maxCoeff()});
-    return shrunk_bound(raw, scale);
+    const double gap = interval_gap(at - reach, at + reach, 0.0, 0.0);
+    const double n2 = n.squaredNorm();  // 0 for a degenerate triangle: no plane to bound by
+    return n2 > 0.0 && gap * gap >= need * need * n2;
   }
   [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
     const std::array<Vec3, 3> v = mapped(a, b, c);
@@ -591,8 +643,8 @@ template <class P>
     for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
       const std::uint32_t t = tree.triangle_order[k];
       const auto [a, b, c] = mesh.corners(t);
-      if constexpr (requires { placed.triangle_lower_bound(a, b, c); }) {
-        if (placed.triangle_lower_bound(a, b, c) >= (best.found ? best.at.distance : options.upper_bound)) continue;
+      if constexpr (requires { placed.ruled_out(a, b, c, 0.0); }) {
+        if (placed.ruled_out(a, b, c, best.found ? best.at.distance : options.upper_bound)) continue;
       }
       ++stats.triangle_pairs;
       const Measure m = placed.measure(a, b, c);

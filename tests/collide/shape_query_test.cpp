@@ -248,6 +248,39 @@ TEST(ShapeQuery, BoxDistanceEachTriangleAgainstTwelveSurfaceTriangles) {
   EXPECT_GT(apart, 200);
 }
 
+// The capsule's segment–triangle distance against tri_tri_distance on the degenerate triangle
+// (p, q, q), triangle by triangle: random segments against a soup with segments and points among
+// its triangles, and against a cube with segments parallel to its edges and faces, crossing it,
+// and lying in a face's plane.
+TEST(ShapeQuery, CapsuleDistanceEachTriangleAgainstTriTriDistance) {
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  const Mat3 quarter = Eigen::AngleAxisd(0.5 * M_PI, Vec3::UnitX()).toRotationMatrix();
+  int apart = 0, touching = 0;
+  for (const Mesh& mesh : {qt::random_soup(40, 9), qt::cube(Vec3(-0.5, -0.5, -0.5), 1.0)}) {
+    for (int i = 0; i < 16; ++i) {
+      const Capsule capsule(0.05, 0.2 + std::abs(u(rng)));
+      const Mat3 r = i % 4 == 0 ? Mat3::Identity() : i % 4 == 1 ? quarter : qt::random_rotation(rng);
+      // i % 8 == 5: the axis in the plane z = 0.5 of the cube's top face.
+      const Vec3 t = i % 8 == 5 ? Vec3(u(rng), u(rng), 0.5) : 0.6 * Vec3(u(rng), u(rng), u(rng));
+      const Pose ps{i % 8 == 5 ? quarter : r, t};
+      const Vec3 p = ps.apply(Vec3(0.0, 0.0, -0.5 * capsule.length)), q = ps.apply(Vec3(0.0, 0.0, 0.5 * capsule.length));
+      for (std::uint32_t k = 0; k < mesh.triangles.size(); ++k) {
+        const auto [a, b, c] = mesh.corners(k);
+        const Mesh one{{a, b, c}, {Triangle{0, 1, 2}}};
+        const double d = tri_tri_distance(p, q, q, a, b, c).distance;
+        const double want = std::max(0.0, d - capsule.radius);
+        const ShapeDistanceResult got = distance_brute_force(capsule, ps, one, Pose{});
+        EXPECT_NEAR(got.distance, want, 1e-12 * (1.0 + want)) << "pose " << i << " triangle " << k;
+        EXPECT_EQ(got.distance == 0.0, d <= capsule.radius) << "pose " << i << " triangle " << k;
+        (want > 0.0 ? apart : touching) += 1;
+      }
+    }
+  }
+  EXPECT_GT(apart, 500);
+  EXPECT_GT(touching, 10);
+}
+
 // The unit cube [0, 1]^3: shapes tangent to its top face (z = 1) touch it; a hair above they do not.
 TEST(ShapeQuery, ExactlyTangentTouches) {
   const Mesh cube = qt::cube();

@@ -1,13 +1,14 @@
 #pragma once
 /// @file
-/// Primitive shapes (sphere, box, capsule) against a posed triangle mesh: which triangles touch
+/// Primitive shapes (sphere, box, capsule, cylinder, convex hull) against a posed triangle mesh: which triangles touch
 /// the shape (collide) and how far apart they are (distance), without tessellating the shape.
 ///
 /// Conventions are FCL's: Sphere{radius} centered at the origin of its frame; Box{x, y, z} with
 /// full side lengths, centered, faces normal to the local axes; Capsule{radius, length} along the
 /// local z axis, centered, `length` the length of its axis segment (FCL's lz), so it reaches
-/// length / 2 + radius from the center along z. The shapes are solid: a triangle inside a box
-/// touches it.
+/// length / 2 + radius from the center along z; Cylinder{radius, length} along the local z axis,
+/// centered, `length` its full height (FCL's lz); Convex{points} the convex hull of the points in
+/// its frame. The shapes are solid: a triangle inside a box touches it.
 ///
 /// Frames: the shape's pose is mapped into the mesh frame once per query, relative_pose(pm, ps)
 /// (collide.hpp), and every triangle test runs there, in the queries and in their brute-force
@@ -26,6 +27,17 @@
 ///    triangle-box overlap testing") rejects first, only when an axis separates by more than its
 ///    rounding allowance. The distance is the least tri_tri_distance to the 12 surface triangles
 ///    (a solid box and a disjoint triangle are closest on the box surface).
+///  - Convex: exact, as the box, on the triangle's coordinates in the hull's frame: a hull face
+///    plane with every corner strictly outside rejects (orient3d, exact); else a corner inside the
+///    closed hull (orient3d against every face) or the triangle touching a face (tri_tri_overlap)
+///    touches. The distance is the least tri_tri_distance to the faces that some corner is
+///    strictly outside of (the closest point of the hull lies on one of them).
+///  - Cylinder: GJK (Gilbert, Johnson & Keerthi 1988) between the triangle and the cylinder, in
+///    the cylinder's frame; touching iff the GJK distance is at most kCylinderTolerance times the
+///    scale (the largest of the radius, half the length and the triangle's coordinates in that
+///    frame), the distance is the GJK distance otherwise (within 1e-12 relative of the true one,
+///    or kCylinderTolerance of the scale). Not exact: within that tolerance of the boundary the
+///    decision may go either way.
 /// So for every shape the distance is exactly 0 iff the triangle touches, and a margin query
 /// reports the triangles at distance <= margin, the same distance distance() reports.
 ///
@@ -36,8 +48,10 @@
 /// boxes' axes and a pose's rotation that is orthonormal only within kRotationTolerance
 /// (scene.hpp). Exact tests at the leaves. A box's distance measures only the faces a triangle
 /// is outside of (its closest point lies on one of them).
+#include <array>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <variant>
 #include <vector>
 
@@ -77,18 +91,52 @@ struct Capsule {
   double length;  ///< The axis segment's length (> 0, finite), not counting the caps.
 };
 
+/// A solid cylinder along the local z axis, centered at the origin: the points with x^2 + y^2 <=
+/// radius^2 and |z| <= length / 2 (FCL's Cylinder, `length` its lz).
+struct Cylinder {
+  /// The cylinder of this radius and full height; InputError unless both are positive and finite.
+  Cylinder(double radius, double length);
+  double radius;  ///< > 0, finite.
+  double length;  ///< The full height along z (> 0, finite).
+};
+
+/// A solid convex polyhedron: the convex hull of points given in its frame (FCL's Convex). Only
+/// the hull is kept (convex_hull(), hull.hpp): its vertices and its triangular faces.
+struct Convex {
+  /// The convex hull of `points`; InputError for a NaN or infinite coordinate, fewer than 4
+  /// points, or points whose hull is flat (affine dimension below 3, hull.hpp).
+  explicit Convex(std::span<const Vec3> points);
+  /// The same, the points as a vector.
+  explicit Convex(const std::vector<Vec3>& points) : Convex(std::span<const Vec3>(points)) {}
+  std::vector<Vec3> vertices;  ///< The hull's vertices (each an input point, strictly extreme).
+  /// The hull's faces as indices into `vertices`, counter-clockwise seen from outside:
+  /// (b - a) x (c - a) points out of the solid.
+  std::vector<std::array<std::uint32_t, 3>> faces;
+};
+
+/// Touching tolerance of a cylinder against a triangle or another shape (GJK): they touch when
+/// the GJK distance is at most this times the scale of the coordinates (the largest of the radius,
+/// half the length and the other shape's coordinates in the cylinder's frame). GJK stops within
+/// about 1e-12 of that scale, and the coordinates carry rounding of about 1e-16 of it; 1e-9 is far
+/// above both, and far below any gap a caller means (docs/algorithms.md, "Cylinder: GJK").
+inline constexpr double kCylinderTolerance = 1e-9;
+
 /// The shape's box in its own frame: centered at the origin, identity axes.
 [[nodiscard]] Obb bounding_box(const Sphere& shape);
 /// The shape's box in its own frame: centered at the origin, identity axes, half the side lengths.
 [[nodiscard]] Obb bounding_box(const Box& shape);
 /// The shape's box in its own frame: half extents (radius, radius, length / 2 + radius).
 [[nodiscard]] Obb bounding_box(const Capsule& shape);
+/// The shape's box in its own frame: half extents (radius, radius, length / 2).
+[[nodiscard]] Obb bounding_box(const Cylinder& shape);
+/// The shape's box in its own frame: the axis-aligned box of its vertices.
+[[nodiscard]] Obb bounding_box(const Convex& shape);
 
 /// Any one of the shapes: a scene object's shape (scene.hpp).
-using Shape = std::variant<Sphere, Box, Capsule>;
+using Shape = std::variant<Sphere, Box, Capsule, Cylinder, Convex>;
 /// The shape's box in its own frame (the bounding_box() of the shape it holds).
 [[nodiscard]] Obb bounding_box(const Shape& shape);
-/// "sphere", "box" or "capsule": the scene file's names.
+/// "sphere", "box", "capsule", "cylinder" or "convex": the scene file's names.
 [[nodiscard]] const char* shape_name(const Shape& shape);
 
 /// The distance between two posed shapes (solids).
@@ -103,7 +151,10 @@ struct ShapePairDistance {
 /// axis segment, a box itself (radius 0). The cores' distance comes from tri_tri_distance
 /// (points and segments as degenerate triangles; a box as its 12 surface triangles, after an
 /// exact point-in-box test of the other's endpoints or corners, so a core inside a box is at 0),
-/// less the two radii. InputError for a pose that is not a finite proper rotation.
+/// less the two radii. A pair with a cylinder or a convex hull goes through GJK on the two
+/// solids (support functions; a sphere or capsule as its core, the radii subtracted after), at 0
+/// when the GJK distance is within kCylinderTolerance of the scale of the coordinates.
+/// InputError for a pose that is not a finite proper rotation.
 [[nodiscard]] ShapePairDistance distance(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb);
 
 /// The answer of collide() of a shape and a mesh.
@@ -148,6 +199,12 @@ struct ShapeDistanceResult {
 /// The same for a capsule.
 [[nodiscard]] ShapeQueryResult collide(const Capsule& shape, const Pose& ps, const Tree& tree, const Mesh& mesh,
                                        const Pose& pm, const QueryOptions& options = {});
+/// The same for a cylinder.
+[[nodiscard]] ShapeQueryResult collide(const Cylinder& shape, const Pose& ps, const Tree& tree, const Mesh& mesh,
+                                       const Pose& pm, const QueryOptions& options = {});
+/// The same for a convex hull.
+[[nodiscard]] ShapeQueryResult collide(const Convex& shape, const Pose& ps, const Tree& tree, const Mesh& mesh,
+                                       const Pose& pm, const QueryOptions& options = {});
 /// collide() of a sphere and a model's tree and mesh.
 [[nodiscard]] ShapeQueryResult collide(const Sphere& shape, const Pose& ps, const Model& model, const Pose& pm,
                                        const QueryOptions& options = {});
@@ -156,6 +213,12 @@ struct ShapeDistanceResult {
                                        const QueryOptions& options = {});
 /// collide() of a capsule and a model's tree and mesh.
 [[nodiscard]] ShapeQueryResult collide(const Capsule& shape, const Pose& ps, const Model& model, const Pose& pm,
+                                       const QueryOptions& options = {});
+/// collide() of a cylinder and a model's tree and mesh.
+[[nodiscard]] ShapeQueryResult collide(const Cylinder& shape, const Pose& ps, const Model& model, const Pose& pm,
+                                       const QueryOptions& options = {});
+/// collide() of a convex hull and a model's tree and mesh.
+[[nodiscard]] ShapeQueryResult collide(const Convex& shape, const Pose& ps, const Model& model, const Pose& pm,
                                        const QueryOptions& options = {});
 
 /// The minimum distance between the sphere at pose `ps` and `mesh` at pose `pm`, with the closest
@@ -170,6 +233,12 @@ struct ShapeDistanceResult {
 /// The same for a capsule.
 [[nodiscard]] ShapeDistanceResult distance(const Capsule& shape, const Pose& ps, const Tree& tree, const Mesh& mesh,
                                            const Pose& pm, const DistanceOptions& options = {});
+/// The same for a cylinder.
+[[nodiscard]] ShapeDistanceResult distance(const Cylinder& shape, const Pose& ps, const Tree& tree, const Mesh& mesh,
+                                           const Pose& pm, const DistanceOptions& options = {});
+/// The same for a convex hull.
+[[nodiscard]] ShapeDistanceResult distance(const Convex& shape, const Pose& ps, const Tree& tree, const Mesh& mesh,
+                                           const Pose& pm, const DistanceOptions& options = {});
 /// distance() of a sphere and a model's tree and mesh.
 [[nodiscard]] ShapeDistanceResult distance(const Sphere& shape, const Pose& ps, const Model& model, const Pose& pm,
                                            const DistanceOptions& options = {});
@@ -178,6 +247,12 @@ struct ShapeDistanceResult {
                                            const DistanceOptions& options = {});
 /// distance() of a capsule and a model's tree and mesh.
 [[nodiscard]] ShapeDistanceResult distance(const Capsule& shape, const Pose& ps, const Model& model, const Pose& pm,
+                                           const DistanceOptions& options = {});
+/// distance() of a cylinder and a model's tree and mesh.
+[[nodiscard]] ShapeDistanceResult distance(const Cylinder& shape, const Pose& ps, const Model& model, const Pose& pm,
+                                           const DistanceOptions& options = {});
+/// distance() of a convex hull and a model's tree and mesh.
+[[nodiscard]] ShapeDistanceResult distance(const Convex& shape, const Pose& ps, const Model& model, const Pose& pm,
                                            const DistanceOptions& options = {});
 
 /// Reference: every triangle in index order, the same per-triangle test and frames as collide();
@@ -190,6 +265,12 @@ struct ShapeDistanceResult {
 /// The same for a capsule.
 [[nodiscard]] ShapeQueryResult collide_brute_force(const Capsule& shape, const Pose& ps, const Mesh& mesh,
                                                    const Pose& pm, const QueryOptions& options = {});
+/// The same for a cylinder.
+[[nodiscard]] ShapeQueryResult collide_brute_force(const Cylinder& shape, const Pose& ps, const Mesh& mesh,
+                                                   const Pose& pm, const QueryOptions& options = {});
+/// The same for a convex hull.
+[[nodiscard]] ShapeQueryResult collide_brute_force(const Convex& shape, const Pose& ps, const Mesh& mesh,
+                                                   const Pose& pm, const QueryOptions& options = {});
 
 /// Reference: every triangle, the same per-triangle distance and frames as distance(); the first
 /// triangle (in index order) at the minimum. Exact: the error options and upper_bound are not used.
@@ -200,6 +281,12 @@ struct ShapeDistanceResult {
                                                        const Pose& pm, const DistanceOptions& options = {});
 /// The same for a capsule.
 [[nodiscard]] ShapeDistanceResult distance_brute_force(const Capsule& shape, const Pose& ps, const Mesh& mesh,
+                                                       const Pose& pm, const DistanceOptions& options = {});
+/// The same for a cylinder.
+[[nodiscard]] ShapeDistanceResult distance_brute_force(const Cylinder& shape, const Pose& ps, const Mesh& mesh,
+                                                       const Pose& pm, const DistanceOptions& options = {});
+/// The same for a convex hull.
+[[nodiscard]] ShapeDistanceResult distance_brute_force(const Convex& shape, const Pose& ps, const Mesh& mesh,
                                                        const Pose& pm, const DistanceOptions& options = {});
 
 }  // namespace tightbvh

@@ -1,11 +1,13 @@
-// Two posed primitive shapes: each a core (a point, a segment or a box) grown by a radius, their
-// distance through tri_tri_distance on the cores. See include/tightbvh/shape.hpp.
+// Two posed primitive shapes: each a core (a point, a segment, a box, a cylinder or a convex hull)
+// grown by a radius, their distance through tri_tri_distance on the cores (sphere, capsule, box)
+// or GJK (any pair with a cylinder or a convex hull). See include/tightbvh/shape.hpp.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <variant>
 
+#include "gjk.hpp"
 #include "tightbvh/scene.hpp"
 #include "tightbvh/shape.hpp"
 #include "tightbvh/tri_distance.hpp"
@@ -88,6 +90,60 @@ constexpr std::array<std::array<int, 3>, 12> kFaces{{{0, 2, 1}, {1, 2, 3}, {4, 5
   return best;
 }
 
+// The support point (greatest d . x) of the shape's core, world frame: a sphere's center, a
+// capsule's axis segment, the solid box, cylinder or hull.
+[[nodiscard]] Vec3 core_support(const Shape& shape, const Pose& pose, const Vec3& d) {
+  const Vec3 local = pose.rotation.transpose() * d;
+  struct Support {
+    const Vec3& d;
+    Vec3 operator()(const Sphere&) const { return Vec3::Zero(); }
+    Vec3 operator()(const Capsule& s) const { return Vec3(0.0, 0.0, d.z() >= 0.0 ? 0.5 * s.length : -0.5 * s.length); }
+    Vec3 operator()(const Box& s) const {
+      return Vec3(d.x() >= 0.0 ? 0.5 * s.size.x() : -0.5 * s.size.x(), d.y() >= 0.0 ? 0.5 * s.size.y() : -0.5 * s.size.y(),
+                  d.z() >= 0.0 ? 0.5 * s.size.z() : -0.5 * s.size.z());
+    }
+    Vec3 operator()(const Cylinder& s) const {
+      const double n = std::hypot(d.x(), d.y());
+      const double z = d.z() >= 0.0 ? 0.5 * s.length : -0.5 * s.length;
+      if (!(n > 0.0)) return Vec3(0.0, 0.0, z);
+      return Vec3(s.radius * d.x() / n, s.radius * d.y() / n, z);
+    }
+    Vec3 operator()(const Convex& s) const {
+      std::size_t best = 0;
+      double top = -std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < s.vertices.size(); ++i) {
+        const double p = d.dot(s.vertices[i]);
+        if (p > top) top = p, best = i;
+      }
+      return s.vertices[best];
+    }
+  };
+  return pose.apply(std::visit(Support{local}, shape));
+}
+
+[[nodiscard]] double core_radius(const Shape& shape) {
+  if (const auto* s = std::get_if<Sphere>(&shape)) return s->radius;
+  if (const auto* s = std::get_if<Capsule>(&shape)) return s->radius;
+  return 0.0;
+}
+
+[[nodiscard]] bool needs_gjk(const Shape& shape) {
+  return std::holds_alternative<Cylinder>(shape) || std::holds_alternative<Convex>(shape);
+}
+
+// A point of the shape's core, world frame.
+[[nodiscard]] Vec3 core_point(const Shape& shape, const Pose& pose) {
+  if (const auto* s = std::get_if<Convex>(&shape)) return pose.apply(s->vertices.front());
+  return pose.translation;
+}
+
+// The scale of the pair's coordinates: the farthest reach of either bounding box from the origin.
+[[nodiscard]] double pair_scale(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb) {
+  const Obb ba = bounding_box(a), bb = bounding_box(b);
+  return std::max(pa.apply(ba.center).cwiseAbs().maxCoeff() + ba.half_extents.norm(),
+                  pb.apply(bb.center).cwiseAbs().maxCoeff() + bb.half_extents.norm());
+}
+
 }  // namespace
 
 Obb bounding_box(const Shape& shape) {
@@ -99,6 +155,8 @@ const char* shape_name(const Shape& shape) {
     const char* operator()(const Sphere&) const { return "sphere"; }
     const char* operator()(const Box&) const { return "box"; }
     const char* operator()(const Capsule&) const { return "capsule"; }
+    const char* operator()(const Cylinder&) const { return "cylinder"; }
+    const char* operator()(const Convex&) const { return "convex"; }
   };
   return std::visit(Name{}, shape);
 }
@@ -106,17 +164,43 @@ const char* shape_name(const Shape& shape) {
 ShapePairDistance distance(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb) {
   require_valid_pose(pa, "shape distance", "the pose of A");
   require_valid_pose(pb, "shape distance", "the pose of B");
-  const Core ca = std::visit([&](const auto& s) { return core_of(s, pa); }, a);
-  const Core cb = std::visit([&](const auto& s) { return core_of(s, pb); }, b);
-  const TriangleDistance d = core_distance(ca, cb);
-  const double reach = ca.radius + cb.radius;
-  if (d.distance <= reach) {
+  TriangleDistance d;
+  double ra = 0.0, rb = 0.0, tolerance = 0.0;
+  if (needs_gjk(a) || needs_gjk(b)) {
+    // GJK on the cores (Gilbert, Johnson & Keerthi 1988), to 1e-12 of the distance or the scale;
+    // touching within kCylinderTolerance of the scale (shape.hpp).
+    const double scale = pair_scale(a, pa, b, pb);
+    const gjk::Result g = gjk::distance([&](const Vec3& dir) { return core_support(a, pa, dir); },
+                                        [&](const Vec3& dir) { return core_support(b, pb, dir); }, core_point(a, pa),
+                                        core_point(b, pb), 1e-12 * scale, 1e-12);
+    d.distance = g.distance;
+    d.point_p = g.point_a;
+    d.point_q = g.point_b;
+    ra = core_radius(a);
+    rb = core_radius(b);
+    tolerance = kCylinderTolerance * scale;
+  } else {
+    const auto core = [](const Shape& shape, const Pose& pose) {
+      return std::visit(
+          [&](const auto& s) -> Core {
+            if constexpr (requires { core_of(s, pose); }) return core_of(s, pose);
+            else return Core{};  // a cylinder or a hull: the GJK branch
+          },
+          shape);
+    };
+    const Core ca = core(a, pa), cb = core(b, pb);
+    d = core_distance(ca, cb);
+    ra = ca.radius;
+    rb = cb.radius;
+  }
+  const double reach = ra + rb;
+  if (d.distance <= reach + tolerance) {
     // Touching: the point that splits the cores' closest points by the radii lies in both.
-    const Vec3 common = reach > 0.0 ? d.point_p + (d.point_q - d.point_p) * (ca.radius / reach) : d.point_p;
+    const Vec3 common = reach > 0.0 ? d.point_p + (d.point_q - d.point_p) * (ra / reach) : d.point_p;
     return {0.0, common, common};
   }
   const Vec3 direction = (d.point_q - d.point_p) / d.distance;
-  return {d.distance - reach, d.point_p + ca.radius * direction, d.point_q - cb.radius * direction};
+  return {d.distance - reach, d.point_p + ra * direction, d.point_q - rb * direction};
 }
 
 }  // namespace tightbvh

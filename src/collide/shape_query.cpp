@@ -12,7 +12,9 @@
 #include <utility>
 #include <vector>
 
+#include "gjk.hpp"
 #include "query_common.hpp"
+#include "../geometry/predicates.hpp"
 #include "tri_lanes.hpp"
 #include "tightbvh/compact_box.hpp"
 #include "tightbvh/error.hpp"
@@ -451,6 +453,8 @@ struct PlacedBox {
   }
 };
 
+#include "shape_convex.hpp"
+
 template <class S>
 struct Placed;
 template <>
@@ -465,11 +469,27 @@ template <>
 struct Placed<Box> {
   using type = PlacedBox;
 };
+template <>
+struct Placed<Cylinder> {
+  using type = PlacedCylinder;
+};
+template <>
+struct Placed<Convex> {
+  using type = PlacedConvex;
+};
 
 void check_shape(const char* who, const Sphere& s) { require_size(who, "sphere radius", s.radius); }
 void check_shape(const char* who, const Capsule& s) {
   require_size(who, "capsule radius", s.radius);
   require_size(who, "capsule length", s.length);
+}
+void check_shape(const char* who, const Cylinder& s) {
+  require_size(who, "cylinder radius", s.radius);
+  require_size(who, "cylinder length", s.length);
+}
+void check_shape(const char* who, const Convex& s) {
+  if (s.vertices.size() < 4 || s.faces.size() < 4)
+    throw InputError(std::string(who) + ": the convex shape has no solid hull (made by Convex(points))");
 }
 void check_shape(const char* who, const Box& s) {
   require_size(who, "box size x", s.size.x());
@@ -756,6 +776,8 @@ Obb bounding_box(const Capsule& shape) {
 TIGHTBVH_SHAPE_QUERIES(Sphere)
 TIGHTBVH_SHAPE_QUERIES(Box)
 TIGHTBVH_SHAPE_QUERIES(Capsule)
+TIGHTBVH_SHAPE_QUERIES(Cylinder)
+TIGHTBVH_SHAPE_QUERIES(Convex)
 
 #undef TIGHTBVH_SHAPE_QUERIES
 

@@ -1,0 +1,216 @@
+// The cylinder and the convex hull against a triangle, in the mesh frame: the Placed types of
+// shape_query.cpp. Included by shape_query.cpp inside its anonymous namespace, after Measure,
+// box_bound(), interval_gap() and needed_gap(), which these use. See include/tightbvh/shape.hpp.
+
+// The gap between the triangle's bounding box and the box [lo, hi] (squared), and the scale of
+// their coordinates.
+[[nodiscard]] inline double boxes_gap2(const std::array<Vec3, 3>& v, const Vec3& lo_s, const Vec3& hi_s,
+                                       double& scale) {
+  const Vec3 lo = v[0].cwiseMin(v[1]).cwiseMin(v[2]), hi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
+  double sum = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double g = interval_gap(lo[k], hi[k], lo_s[k], hi_s[k]);
+    sum += g * g;
+  }
+  scale = std::max({hi.cwiseAbs().maxCoeff(), lo.cwiseAbs().maxCoeff(), hi_s.cwiseAbs().maxCoeff(),
+                    lo_s.cwiseAbs().maxCoeff()});
+  return sum;
+}
+
+// The triangle's corner of greatest d . x.
+[[nodiscard]] inline Vec3 triangle_support(const std::array<Vec3, 3>& v, const Vec3& d) {
+  const double p0 = d.dot(v[0]), p1 = d.dot(v[1]), p2 = d.dot(v[2]);
+  if (p0 >= p1 && p0 >= p2) return v[0];
+  return p1 >= p2 ? v[1] : v[2];
+}
+
+// A cylinder in the mesh frame; triangles are mapped into its own frame, where its axis is z.
+struct PlacedCylinder {
+  Pose to_local;
+  Pose to_mesh;
+  double r, hz;
+  Obb box;
+
+  PlacedCylinder(const Cylinder& s, const Pose& rel)
+      : to_local(rel.inverse()),
+        to_mesh(rel),
+        r(s.radius),
+        hz(0.5 * s.length),
+        box{rel.translation, rel.rotation, Vec3(s.radius, s.radius, 0.5 * s.length)} {}
+
+  [[nodiscard]] std::array<Vec3, 3> mapped(const Vec3& a, const Vec3& b, const Vec3& c) const {
+    return {map_point(to_local, a), map_point(to_local, b), map_point(to_local, c)};
+  }
+  // The cylinder's point of greatest d . x: on the rim of the cap d_z points to.
+  [[nodiscard]] Vec3 support(const Vec3& d) const {
+    const double n = std::hypot(d.x(), d.y());
+    const double z = d.z() >= 0.0 ? hz : -hz;
+    if (!(n > 0.0)) return Vec3(0.0, 0.0, z);
+    return Vec3(r * d.x() / n, r * d.y() / n, z);
+  }
+  [[nodiscard]] double scale_of(const std::array<Vec3, 3>& v) const {
+    return std::max({r, hz, v[0].cwiseAbs().maxCoeff(), v[1].cwiseAbs().maxCoeff(), v[2].cwiseAbs().maxCoeff()});
+  }
+  // GJK between the cylinder (A) and the triangle (B), cylinder frame; stops within 1e-12 of the
+  // distance or 1e-12 of the scale.
+  [[nodiscard]] gjk::Result run(const std::array<Vec3, 3>& v, double scale) const {
+    const Vec3 start = (v[0] + v[1] + v[2]) / 3.0;
+    return gjk::distance([&](const Vec3& d) { return support(d); },
+                         [&](const Vec3& d) { return triangle_support(v, d); }, Vec3(0.0, 0.0, 0.0), start,
+                         1e-12 * scale, 1e-12);
+  }
+  [[nodiscard]] Measure measure(const Vec3& a, const Vec3& b, const Vec3& c) const {
+    const std::array<Vec3, 3> v = mapped(a, b, c);
+    const double scale = scale_of(v);
+    const gjk::Result g = run(v, scale);
+    if (g.distance <= kCylinderTolerance * scale) {
+      const Vec3 p = to_mesh.apply(g.point_b);
+      return {0.0, p, p};
+    }
+    return {g.distance, to_mesh.apply(g.point_a), to_mesh.apply(g.point_b)};
+  }
+  [[nodiscard]] double lower_bound(const CompactBox& node, double allowance) const {
+    return box_bound(node, box, allowance);
+  }
+  // The gap between the triangle's bounding box and the cylinder's (cylinder frame) against the
+  // limit, as the box's ruled_out().
+  [[nodiscard]] bool ruled_out(const Vec3& a, const Vec3& b, const Vec3& c, double limit) const {
+    if (!(limit < std::numeric_limits<double>::infinity())) return false;
+    double scale = 0.0;
+    const double gap2 = boxes_gap2(mapped(a, b, c), Vec3(-r, -r, -hz), Vec3(r, r, hz), scale);
+    const double need = needed_gap(limit, 0.0, scale);
+    return gap2 >= need * need;
+  }
+  [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
+    const std::array<Vec3, 3> v = mapped(a, b, c);
+    double scale = 0.0;
+    const double gap2 = boxes_gap2(v, Vec3(-r, -r, -hz), Vec3(r, r, hz), scale);
+    const double need = needed_gap(margin, 0.0, scale) + kCylinderTolerance * scale;
+    if (gap2 > need * need) return false;  // the boxes' gap bounds the distance from below
+    const gjk::Result g = run(v, scale_of(v));
+    return g.distance <= kCylinderTolerance * scale_of(v) || g.distance <= margin;
+  }
+};
+
+// A convex hull in the mesh frame; triangles are mapped into its own frame, where its faces'
+// planes are prepared for exact orientation tests (Shewchuk's orient3d, predicates.hpp).
+struct PlacedConvex {
+  const Convex* hull;
+  Pose to_local;
+  Pose to_mesh;
+  Vec3 lo, hi;  // the vertices' box, hull frame
+  Obb box;
+  std::vector<tightbvh::detail::OrientPlane> planes;
+  std::vector<Vec3> face_lo, face_hi;
+  mutable std::vector<signed char> sides;  // scratch: per face, the corners' orientation signs
+
+  PlacedConvex(const Convex& s, const Pose& rel) : hull(&s), to_local(rel.inverse()), to_mesh(rel) {
+    lo = hi = s.vertices.front();
+    for (const Vec3& p : s.vertices) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    box = Obb{rel.apply(0.5 * (lo + hi)), rel.rotation, 0.5 * (hi - lo)};
+    planes.reserve(s.faces.size());
+    face_lo.reserve(s.faces.size());
+    face_hi.reserve(s.faces.size());
+    for (const auto& f : s.faces) {
+      const Vec3 &p = s.vertices[f[0]], &q = s.vertices[f[1]], &t = s.vertices[f[2]];
+      planes.emplace_back(p, q, t);
+      face_lo.push_back(p.cwiseMin(q).cwiseMin(t));
+      face_hi.push_back(p.cwiseMax(q).cwiseMax(t));
+    }
+    sides.resize(3 * s.faces.size());
+  }
+
+  [[nodiscard]] std::array<Vec3, 3> mapped(const Vec3& a, const Vec3& b, const Vec3& c) const {
+    return {map_point(to_local, a), map_point(to_local, b), map_point(to_local, c)};
+  }
+  [[nodiscard]] std::array<Vec3, 3> face(std::size_t f) const {
+    const auto& i = hull->faces[f];
+    return {hull->vertices[i[0]], hull->vertices[i[1]], hull->vertices[i[2]]};
+  }
+
+  // Exact on the hull-frame coordinates: -1 when a face plane has every corner strictly outside
+  // (it separates) or when no corner is in the closed hull and no face touches the triangle (a
+  // triangle that touches the solid without a corner in it crosses its surface); else the index
+  // of a corner in the hull (0..2) or 3 + a touched face. A face whose plane has every corner
+  // strictly inside cannot be touched, so only the others go to tri_tri_overlap. Fills `sides`.
+  [[nodiscard]] int touching(const std::array<Vec3, 3>& v) const {
+    const std::size_t nf = planes.size();
+    bool inside[3] = {true, true, true};
+    for (std::size_t f = 0; f < nf; ++f) {
+      int outside = 0;
+      for (int i = 0; i < 3; ++i) {
+        const int s = planes[f].sign(v[i]);
+        sides[3 * f + i] = static_cast<signed char>(s);
+        if (s > 0) ++outside, inside[i] = false;
+      }
+      if (outside == 3) return -1;
+    }
+    for (int i = 0; i < 3; ++i)
+      if (inside[i]) return i;
+    for (std::size_t f = 0; f < nf; ++f) {
+      if (sides[3 * f] < 0 && sides[3 * f + 1] < 0 && sides[3 * f + 2] < 0) continue;
+      const std::array<Vec3, 3> t = face(f);
+      if (tri_tri_overlap(t[0], t[1], t[2], v[0], v[1], v[2])) return 3 + static_cast<int>(f);
+    }
+    return -1;
+  }
+
+  // A disjoint triangle's closest point y and the hull's x have y - x in the hull's normal cone
+  // at x, so x lies on a face whose plane y, hence a corner, is strictly outside of (`sides` from
+  // touching()): the least tri_tri_distance over those faces is the distance. Faces whose box is
+  // already as far as the best so far are skipped.
+  [[nodiscard]] TriangleDistance disjoint_distance(const std::array<Vec3, 3>& v) const {
+    TriangleDistance best;
+    best.distance = std::numeric_limits<double>::infinity();
+    const Vec3 tlo = v[0].cwiseMin(v[1]).cwiseMin(v[2]), thi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
+    for (std::size_t f = 0; f < planes.size(); ++f) {
+      if (sides[3 * f] <= 0 && sides[3 * f + 1] <= 0 && sides[3 * f + 2] <= 0) continue;
+      double gap2 = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const double g = interval_gap(tlo[k], thi[k], face_lo[f][k], face_hi[f][k]);
+        gap2 += g * g;
+      }
+      if (gap2 >= best.distance * best.distance) continue;
+      const std::array<Vec3, 3> t = face(f);
+      const TriangleDistance d = tri_tri_distance(t[0], t[1], t[2], v[0], v[1], v[2]);
+      if (d.distance < best.distance) best = d;
+    }
+    best.distance = std::max(best.distance, std::numeric_limits<double>::min());  // disjoint: never 0
+    return best;
+  }
+
+  [[nodiscard]] Measure measure(const Vec3& a, const Vec3& b, const Vec3& c) const {
+    const std::array<Vec3, 3> v = mapped(a, b, c);
+    const int touch = touching(v);
+    if (touch >= 0) {
+      Vec3 point = touch < 3 ? v[touch] : tri_tri_distance(face(touch - 3), v).point_q;
+      point = to_mesh.apply(point);
+      return {0.0, point, point};
+    }
+    // A separating face plane ended touching() early: classify every face for the distance.
+    for (std::size_t f = 0; f < planes.size(); ++f)
+      for (int i = 0; i < 3; ++i) sides[3 * f + i] = static_cast<signed char>(planes[f].sign(v[i]));
+    const TriangleDistance best = disjoint_distance(v);
+    return {best.distance, to_mesh.apply(best.point_p), to_mesh.apply(best.point_q)};
+  }
+  [[nodiscard]] double lower_bound(const CompactBox& node, double allowance) const {
+    return box_bound(node, box, allowance);
+  }
+  [[nodiscard]] bool ruled_out(const Vec3& a, const Vec3& b, const Vec3& c, double limit) const {
+    if (!(limit < std::numeric_limits<double>::infinity())) return false;
+    double scale = 0.0;
+    const double gap2 = boxes_gap2(mapped(a, b, c), lo, hi, scale);
+    const double need = needed_gap(limit, 0.0, scale);
+    return gap2 >= need * need;
+  }
+  [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
+    const std::array<Vec3, 3> v = mapped(a, b, c);
+    double scale = 0.0;
+    const double gap2 = boxes_gap2(v, lo, hi, scale);
+    const double need = needed_gap(margin, 0.0, scale);
+    if (gap2 > need * need) return false;  // the boxes' gap bounds the distance from below
+    if (touching(v) >= 0) return true;
+    if (margin == 0.0) return false;
+    return measure(a, b, c).distance <= margin;  // measure()'s arithmetic
+  }
+};

@@ -29,6 +29,8 @@
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/convex.h>
+#include <fcl/geometry/shape/cylinder.h>
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/collision.h>
 
@@ -140,6 +142,15 @@ struct FclShape {
   std::shared_ptr<fcl::CollisionGeometry<double>> operator()(const Capsule& s) const {
     return std::make_shared<fcl::Capsule<double>>(s.radius, s.length);
   }
+  std::shared_ptr<fcl::CollisionGeometry<double>> operator()(const Cylinder& s) const {
+    return std::make_shared<fcl::Cylinder<double>>(s.radius, s.length);
+  }
+  std::shared_ptr<fcl::CollisionGeometry<double>> operator()(const Convex& s) const {
+    auto vertices = std::make_shared<std::vector<fcl::Vector3<double>>>(s.vertices.begin(), s.vertices.end());
+    auto faces = std::make_shared<std::vector<int>>();  // FCL's layout: count, then the indices
+    for (const auto& f : s.faces) faces->insert(faces->end(), {3, int(f[0]), int(f[1]), int(f[2])});
+    return std::make_shared<fcl::Convex<double>>(vertices, int(s.faces.size()), faces);
+  }
 };
 
 class FclEngine final : public Engine {
@@ -239,6 +250,18 @@ struct BulletPrimitive {
   }
   std::unique_ptr<btCollisionShape> operator()(const Capsule& s) const {
     return std::make_unique<btCapsuleShapeZ>(s.radius, s.length);
+  }
+  std::unique_ptr<btCollisionShape> operator()(const Cylinder& s) const {
+    auto cylinder = std::make_unique<btCylinderShapeZ>(btVector3(s.radius, s.radius, 0.5 * s.length));
+    cylinder->setMargin(0);
+    return cylinder;
+  }
+  std::unique_ptr<btCollisionShape> operator()(const Convex& s) const {
+    auto hull = std::make_unique<btConvexHullShape>();
+    for (const Vec3& p : s.vertices) hull->addPoint(btVector3(p.x(), p.y(), p.z()), false);
+    hull->recalcLocalAabb();
+    hull->setMargin(0);
+    return hull;
   }
 };
 

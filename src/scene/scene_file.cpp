@@ -5,6 +5,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <vector>
 
 #include "tightbvh/error.hpp"
 #include "tightbvh/mesh.hpp"
@@ -51,23 +52,50 @@ double number_of(const Json& o, const char* key, const std::string& where) {
   return j.get<double>();
 }
 
+// A convex object's points: "points": [[x, y, z], ...], or "path": a mesh file (resolved against
+// the scene file's folder, as models' paths) whose vertices are the points.
+std::vector<Vec3> convex_points(const Json& o, const std::string& where, const std::filesystem::path& folder) {
+  if (o.contains("points") == o.contains("path"))
+    throw InputError(where + ": a convex shape has either \"points\" or \"path\"");
+  if (o.contains("path")) {
+    const std::filesystem::path mesh_path = folder / string_of(o["path"], where + ".path");
+    try {
+      return load_mesh(mesh_path).vertices;
+    } catch (const InputError& e) {
+      throw InputError(where + ".path: " + e.what());
+    }
+  }
+  const Json& points = o["points"];
+  if (!points.is_array()) throw InputError(where + ".points: an array of points [x, y, z]");
+  std::vector<Vec3> out;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Json& p = points[i];
+    if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() || !p[2].is_number())
+      throw InputError(where + ".points[" + std::to_string(i) + "]: three numbers [x, y, z]");
+    out.emplace_back(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+  }
+  return out;
+}
+
 // An object's "shape" (with its sizes), the shape.hpp conventions.
-Shape shape_of(const Json& o, const std::string& where) {
+Shape shape_of(const Json& o, const std::string& where, const std::filesystem::path& folder) {
   const std::string kind = string_of(member(o, "shape", where), where + ".shape");
   try {
     if (kind == "sphere") return Sphere(number_of(o, "radius", where));
     if (kind == "capsule") return Capsule(number_of(o, "radius", where), number_of(o, "length", where));
+    if (kind == "cylinder") return Cylinder(number_of(o, "radius", where), number_of(o, "length", where));
     if (kind == "box") {
       const Json& size = member(o, "size", where);
       if (!size.is_array() || size.size() != 3 || !size[0].is_number() || !size[1].is_number() || !size[2].is_number())
         throw InputError(where + ".size: three numbers [x, y, z] (full side lengths)");
       return Box(size[0].get<double>(), size[1].get<double>(), size[2].get<double>());
     }
+    if (kind == "convex") return Convex(convex_points(o, where, folder));
   } catch (const InputError& e) {
     if (std::string(e.what()).starts_with(where)) throw;
     throw InputError(where + ": " + e.what());
   }
-  throw InputError(where + ".shape: unknown shape '" + kind + "' (sphere, box, capsule)");
+  throw InputError(where + ".shape: unknown shape '" + kind + "' (sphere, box, capsule, cylinder, convex)");
 }
 
 }  // namespace
@@ -150,7 +178,7 @@ SceneFile load_scene_file(const std::filesystem::path& path, const BuildOptions&
     if (o.contains("model") == o.contains("shape"))
       throw InputError(where + ": an object has either \"model\" or \"shape\"");
     if (o.contains("shape")) {
-      object.shape = shape_of(o, where);
+      object.shape = shape_of(o, where, folder);
     } else {
       const std::string model = string_of(member(o, "model", where), where + ".model");
       const auto it = out.models.find(model);

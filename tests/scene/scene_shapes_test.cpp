@@ -71,6 +71,71 @@ TEST(ShapePair, ClosedForms) {
   EXPECT_THROW((void)distance(ball, Pose{Mat3::Zero(), Vec3::Zero()}, crate, at(0, 0, 0)), InputError);
 }
 
+// The hull of a box's 8 corners.
+Convex corners_of(const Vec3& size) { return Convex(box_mesh(size).vertices); }
+
+// Random points on a sphere of this radius, their hull.
+Convex round_hull(double radius, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n;
+  std::vector<Vec3> points;
+  for (int i = 0; i < 24; ++i) points.push_back(radius * Vec3(n(rng), n(rng), n(rng)).normalized());
+  return Convex(points);
+}
+
+TEST(ShapePair, CylinderAndConvexClosedForms) {
+  const Shape drum = Cylinder(0.5, 2.0), ball = Sphere(0.25), crate = Box(2.0, 2.0, 2.0);
+  const Shape hull = corners_of(Vec3(2.0, 2.0, 2.0));
+  // Side by side, end to end, and a sphere off the rim's edge.
+  EXPECT_NEAR(distance(drum, at(0, 0, 0), drum, at(3, 0, 0)).distance, 2.0, 1e-12);
+  EXPECT_NEAR(distance(drum, at(0, 0, 0), drum, at(0.2, 0, 2.5)).distance, 0.5, 1e-12);
+  EXPECT_NEAR(distance(drum, at(0, 0, 0), ball, at(1.5, 0, 2.0)).distance, std::sqrt(2.0) - 0.25, 1e-12);
+  EXPECT_NEAR(distance(drum, at(0, 0, 0), Shape(Capsule(0.25, 1.0)), at(0, 0, 3.0)).distance, 1.25, 1e-12);
+  EXPECT_EQ(distance(drum, at(0, 0, 0), ball, at(0.3, 0.1, 0.9)).distance, 0.0);  // inside
+  // The hull of a box's corners answers as the box.
+  for (const Pose& p : {at(3, 0.5, 0), at(2.5, 2.5, 2.5), turned_about_z(M_PI / 4, Vec3(4, 0, 0)), at(0.5, 0, 0)}) {
+    EXPECT_NEAR(distance(hull, at(0, 0, 0), crate, p).distance, distance(crate, at(0, 0, 0), crate, p).distance, 1e-12);
+    EXPECT_NEAR(distance(ball, p, hull, at(0, 0, 0)).distance, distance(ball, p, crate, at(0, 0, 0)).distance, 1e-12);
+  }
+  const ShapePairDistance d = distance(drum, at(0, 0, 0), hull, at(3, 0, 0));
+  EXPECT_NEAR(d.distance, 1.5, 1e-12);
+  EXPECT_NEAR(d.point_a.x(), 0.5, 1e-12);
+  EXPECT_NEAR(d.point_b.x(), 2.0, 1e-12);
+  EXPECT_EQ(shape_name(drum), std::string("cylinder"));
+  EXPECT_EQ(shape_name(hull), std::string("convex"));
+}
+
+TEST(ShapePair, CylinderAndConvexAgreeWithTheShapeQueryOnTheBoxSurface) {
+  // As below, for pairs through GJK: the cylinder within its tolerance, the hull to rounding.
+  std::mt19937_64 rng(19);
+  const Vec3 size(1.0, 0.6, 0.4);
+  const ModelPtr surface = make_model(box_mesh(size));
+  const Shape box = Box(size), box_hull = corners_of(size);
+  int apart = 0, touching = 0;
+  for (int i = 0; i < 150; ++i) {
+    const Pose pb = random_pose(rng, 1.5), pa = random_pose(rng, 1.5);
+    for (const Shape& a : {Shape(Cylinder(0.25, 0.5)), Shape(round_hull(0.3, 5)), Shape(Sphere(0.3)),
+                           Shape(Capsule(0.2, 0.7))}) {
+      for (const Shape& b : {box, box_hull}) {
+        if (!std::holds_alternative<Cylinder>(a) && !std::holds_alternative<Convex>(a) &&
+            !std::holds_alternative<Convex>(b))
+          continue;
+        const ShapePairDistance pair = distance(a, pa, b, pb);
+        const ShapeDistanceResult mesh = std::visit([&](const auto& s) { return distance(s, pa, *surface, pb); }, a);
+        if (mesh.distance > 1e-8) {
+          EXPECT_NEAR(pair.distance, mesh.distance, 1e-10 * (1.0 + mesh.distance)) << i << " " << shape_name(a);
+          ++apart;
+        } else if (mesh.distance == 0.0) {
+          EXPECT_EQ(pair.distance, 0.0) << i << " " << shape_name(a);
+          ++touching;
+        }
+      }
+    }
+  }
+  EXPECT_GT(apart, 100);
+  EXPECT_GT(touching, 50);
+}
+
 TEST(ShapePair, AgreesWithTheShapeQueryOnTheBoxSurface) {
   // A box as a solid shape and as its 12 triangles: where the mesh route says apart, the two
   // distances agree; where the solids touch, the pair says 0.
@@ -138,8 +203,9 @@ Expected every_pair(const Scene& scene, double margin) {
 TEST(SceneShapes, MixedSceneEqualsEveryPair) {
   std::mt19937_64 rng(23);
   const std::vector<ModelPtr> models = scene_test::mixed_models();
-  const std::vector<Shape> shapes{Sphere(0.25), Capsule(0.1, 0.8), Box(0.4, 0.3, 0.6)};
-  int shape_model_hits = 0, shape_shape_hits = 0;
+  const std::vector<Shape> shapes{Sphere(0.25), Capsule(0.1, 0.8), Box(0.4, 0.3, 0.6), Cylinder(0.2, 0.7),
+                                  round_hull(0.35, 3)};
+  int shape_model_hits = 0, shape_shape_hits = 0, gjk_hits = 0;
   for (int round = 0; round < 6; ++round) {
     Scene scene;
     for (int k = 0; k < 12; ++k) {
@@ -156,6 +222,10 @@ TEST(SceneShapes, MixedSceneEqualsEveryPair) {
         const bool a_is_shape = scene.object(h.a).shape.has_value(), b_is_shape = scene.object(h.b).shape.has_value();
         shape_model_hits += a_is_shape != b_is_shape;
         shape_shape_hits += a_is_shape && b_is_shape;
+        for (const ObjectId id : {h.a, h.b})
+          if (const auto& sh = scene.object(id).shape; sh && (std::holds_alternative<Cylinder>(*sh) ||
+                                                               std::holds_alternative<Convex>(*sh)))
+            ++gjk_hits;
         for (const TrianglePair& p : h.result.pairs) {  // the shape side's index is 0
           if (a_is_shape) EXPECT_EQ(p.a, 0u);
           if (b_is_shape) EXPECT_EQ(p.b, 0u);
@@ -179,6 +249,7 @@ TEST(SceneShapes, MixedSceneEqualsEveryPair) {
   }
   EXPECT_GT(shape_model_hits, 5);  // the scenes are dense enough to test every kind of pair
   EXPECT_GT(shape_shape_hits, 2);
+  EXPECT_GT(gjk_hits, 3);
 }
 
 TEST(SceneShapes, AddNeedsAModelOrAShape) {
@@ -236,6 +307,37 @@ TEST(SceneShapes, SceneFileTakesShapes) {
             std::string::npos);
   EXPECT_NE(error_of(R"({"name": "a", "shape": "sphere", "radius": 1, "model": "m", )" + pose0 + "}")
                 .find("either \"model\" or \"shape\""),
+            std::string::npos);
+  // Cylinders and convex hulls, by points or from a mesh file next to the scene file.
+  std::ofstream(dir / "tet.off") << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  const SceneFile g = load_scene_file(write(R"({"models": {}, "objects": [
+      {"name": "drum", "shape": "cylinder", "radius": 0.5, "length": 2, )" + pose0 + R"(},
+      {"name": "cube", "shape": "convex", "points": [[0,0,0],[1,0,0],[0,1,0],[1,1,0],[0,0,1],[1,0,1],[0,1,1],[1,1,1]],
+       "pose": [1,0,0, 0,1,0, 0,0,1, 1,0,0]},
+      {"name": "tet", "shape": "convex", "path": "tet.off", "pose": [1,0,0, 0,1,0, 0,0,1, 0,0,3]}]})"));
+  ASSERT_EQ(g.scene.size(), 3u);
+  const Shape& drum = *g.scene.object(*g.scene.find("drum")).shape;
+  ASSERT_TRUE(std::holds_alternative<Cylinder>(drum));
+  EXPECT_EQ(std::get<Cylinder>(drum).length, 2.0);
+  EXPECT_EQ(std::get<Convex>(*g.scene.object(*g.scene.find("cube")).shape).vertices.size(), 8u);
+  EXPECT_EQ(std::get<Convex>(*g.scene.object(*g.scene.find("tet")).shape).faces.size(), 4u);
+  const auto g_nearest = distance(g.scene);
+  ASSERT_TRUE(g_nearest.has_value());
+  EXPECT_NEAR(g_nearest->result.distance, 0.5, 1e-12);  // the drum's side (x = 0.5) to the cube (x = 1)
+  EXPECT_NE(error_of(R"({"name": "a", "shape": "cylinder", "radius": 1, )" + pose0 + "}")
+                .find("objects[0]: missing \"length\""),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"name": "a", "shape": "convex", )" + pose0 + "}").find("objects[0]: a convex shape has either"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"name": "a", "shape": "convex", "points": [[0,0,0],[1,0,0],[0,1,0]], )" + pose0 + "}")
+                .find("objects[0]: Convex: points: a solid hull needs at least 4"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"name": "a", "shape": "convex", "points": [[0,0,0],[1,0]], )" + pose0 + "}")
+                .find("objects[0].points[1]: three numbers"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"name": "a", "shape": "convex", "path": "nowhere.off", )" + pose0 + "}").find("objects[0].path: "),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"name": "a", "shape": "cone", "radius": 1, )" + pose0 + "}").find("cylinder, convex)"),
             std::string::npos);
   fs::remove_all(dir);
 }

@@ -86,10 +86,12 @@ inline bool solve(const std::array<Vertex, 4>& s, const int* idx, int k, double*
 
 // GJK between A (support_a(d): a point of A maximising d . x) and B, starting from the points
 // a0 of A and b0 of B. Stops when |v| - lower <= absolute + relative * |v|, when |v| <= absolute
-// (touching within the allowance: overlapping), or after max_iterations.
+// (touching within the allowance: overlapping), or after max_iterations. With decide >= 0, also
+// as soon as the question "distance <= decide?" is settled: lower > decide (no), or |v| <=
+// decide (yes: |v| only decreases, so the converged distance would be <= decide too).
 template <class SupportA, class SupportB>
 [[nodiscard]] Result distance(const SupportA& support_a, const SupportB& support_b, const Vec3& a0, const Vec3& b0,
-                              double absolute, double relative, int max_iterations = 128) {
+                              double absolute, double relative, int max_iterations = 128, double decide = -1.0) {
   std::array<detail::Vertex, 4> s;
   int n = 1;
   s[0] = {a0 - b0, a0, b0};
@@ -105,9 +107,11 @@ template <class SupportA, class SupportB>
       r.converged = true;
       break;
     }
+    if (vn <= decide) break;
     const Vec3 a = support_a(-v), b = support_b(v);
     const Vec3 w = a - b;
     lower = std::max(lower, v.dot(w) / vn);
+    if (decide >= 0.0 && lower > decide) break;
     if (vn - lower <= absolute + relative * vn) {
       r.converged = true;
       break;

@@ -30,8 +30,9 @@
 ///  - Convex: exact, as the box, on the triangle's coordinates in the hull's frame: a hull face
 ///    plane with every corner strictly outside rejects (orient3d, exact); else a corner inside the
 ///    closed hull (orient3d against every face) or the triangle touching a face (tri_tri_overlap)
-///    touches. The distance is the least tri_tri_distance to the faces that some corner is
-///    strictly outside of (the closest point of the hull lies on one of them).
+///    touches. The distance is GJK's when its bounds prove it within 1e-13 relative, else the
+///    least tri_tri_distance to the faces that some corner is strictly outside of (the closest
+///    point of the hull lies on one of them).
 ///  - Cylinder: GJK (Gilbert, Johnson & Keerthi 1988) between the triangle and the cylinder, in
 ///    the cylinder's frame; touching iff the GJK distance is at most kCylinderTolerance times the
 ///    scale (the largest of the radius, half the length and the triangle's coordinates in that

@@ -175,10 +175,7 @@ template <class SupportA, class SupportB>
       break;
     }
   }
-  if (r.iterations == 1 || n == 1) {
-    // The answer is a single vertex (its weights are those of s[0]).
-    if (n == 1) r.point_a = s[0].a, r.point_b = s[0].b;
-  }
+  if (n == 1) r.point_a = s[0].a, r.point_b = s[0].b;  // a single vertex (also before any solve)
   r.distance = r.overlapping ? 0.0 : (r.point_a - r.point_b).norm();
   r.lower = r.overlapping ? 0.0 : std::min(lower, r.distance);
   return r;

@@ -68,7 +68,18 @@ struct PlacedCylinder {
       const Vec3 p = to_mesh.apply(g.point_b);
       return {0.0, p, p};
     }
-    return {g.distance, to_mesh.apply(g.point_a), to_mesh.apply(g.point_b)};
+    // GJK's point of the cylinder is a combination of rim points, so it may lie a little inside a
+    // curved side; the cylinder's exact closest point to GJK's point of the triangle is on the
+    // surface and no farther (the distance stays an upper bound, within GJK's accuracy).
+    const Vec3 on = closest_point(g.point_b);
+    const double d = std::max((on - g.point_b).norm(), std::numeric_limits<double>::min());  // disjoint: never 0
+    return {d, to_mesh.apply(on), to_mesh.apply(g.point_b)};
+  }
+  // The solid cylinder's closest point to x (the disc and the interval apart: clamp each).
+  [[nodiscard]] Vec3 closest_point(const Vec3& x) const {
+    const double rho = std::hypot(x.x(), x.y());
+    const double s = rho > r ? r / rho : 1.0;
+    return Vec3(x.x() * s, x.y() * s, std::clamp(x.z(), -hz, hz));
   }
   [[nodiscard]] double lower_bound(const CompactBox& node, double allowance) const {
     return box_bound(node, box, allowance);
@@ -88,11 +99,15 @@ struct PlacedCylinder {
     const double gap2 = boxes_gap2(v, Vec3(-r, -r, -hz), Vec3(r, r, hz), scale);
     const double need = needed_gap(margin, 0.0, scale) + kCylinderTolerance * scale;
     if (gap2 > need * need) return false;  // the boxes' gap bounds the distance from below
-    // measure(a, b, c).distance <= margin, settled early: the converged distance of measure()
-    // is at least GJK's lower bound and at most its current |v|.
-    const double tolerance = kCylinderTolerance * scale_of(v);
-    const gjk::Result g = run(v, scale_of(v), std::max(tolerance, margin));
-    return g.distance <= tolerance || g.distance <= margin;
+    // measure(a, b, c).distance <= margin, settled early where GJK's bounds decide it with room to
+    // spare (relative 1e-9, far above rounding): measure()'s distance, or its touching test, is
+    // at least GJK's lower bound and at most its current |v| (which only decreases). Between
+    // them, measure() itself decides, so the two never disagree.
+    const double tolerance = kCylinderTolerance * scale_of(v), threshold = std::max(tolerance, margin);
+    const gjk::Result g = run(v, scale_of(v), threshold);
+    if (g.lower > threshold * (1.0 + 1e-9)) return false;
+    if (g.distance < threshold * (1.0 - 1e-9)) return true;
+    return measure(a, b, c).distance <= margin;
   }
 };
 

@@ -139,3 +139,34 @@ def test_shapes_in_a_scene(elephant, elephant_model):
     assert copied.hit == result.hit and copied.triangles.tolist() == result.triangles.tolist()
     far = tightbvh.distance_shape(Sphere(0.05), translation(3, 0, 0), elephant_model)
     assert pickle.loads(pickle.dumps(far)).point_mesh.tolist() == far.point_mesh.tolist()
+
+
+def test_a_shape_as_the_query_object(elephant, elephant_model):
+    # The *_single calls and in_collision_batch take a shape where they take a mesh: the same
+    # answers as the pair calls against each object.
+    scene = tightbvh.Scene()
+    scene.add_object("elephant", elephant_model)
+    top = elephant.vertices[np.argmax(elephant.vertices[:, 2])]
+    scene.add_object("rod", Capsule(0.02, 0.5), translation(*(top + [0, 0, 0.6])))
+    probe = Sphere(0.05)
+    at_top = translation(*(top + [0, 0, 0.04]))  # dips into the elephant, 0.2 below the rod
+    hit, names, data = scene.in_collision_single(probe, at_top, return_names=True, return_data=True)
+    assert hit and names == {"elephant"}
+    assert all(c.index("__external") is None and c.index("elephant") >= 0 for c in data)
+    assert tightbvh.distance_shape(probe, at_top, elephant_model).distance == 0
+    within = scene.distance_within_single(probe, 0.5, at_top)
+    assert set(within) == {"elephant", "rod"}
+    assert within["rod"] == pytest.approx(0.6 - 0.25 - 0.02 - 0.04 - 0.05, rel=1e-12)
+    above = translation(*(top + [0, 0, 0.2]))
+    distance, name, info = scene.min_distance_single(probe, above, return_name=True, return_data=True)
+    assert name == "rod" and distance == pytest.approx(0.6 - 0.25 - 0.02 - 0.2 - 0.05, rel=1e-12)
+    assert info.index("__external") is None and info.index("rod") is None
+    batch = scene.in_collision_batch(probe, np.stack([at_top, above, translation(9, 9, 9)]))
+    assert batch == [{"elephant"}, set(), set()]
+    # A fitted Box as the query object: its own pose is composed with the transform. It holds the
+    # elephant and stays below the rod (whose lowest point is 0.33 above the elephant's top).
+    fitted = tightbvh.fit(elephant.vertices)
+    assert scene.in_collision_single(fitted, return_names=True)[1] == {"elephant"}
+    assert scene.in_collision_batch(fitted, np.stack([np.eye(4), translation(9, 9, 9)])) == [{"elephant"}, set()]
+    with pytest.raises(ValueError):
+        scene.in_collision_single(probe, np.full((4, 4), np.nan))

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "query_common.hpp"
+#include "traverse.hpp"
 #include "tri_lanes.hpp"
 #include "tightbvh/compact_box.hpp"
 #include "tightbvh/error.hpp"
@@ -127,6 +128,11 @@ struct PlacedSphere {
     }
     return std::max(0.0, std::sqrt(sum) * (1.0 - kCompactBoxSlack) - allowance - radius);
   }
+  // Nothing in the node is within `margin`: its lower bound says so (collide's culling test;
+  // cheaper and tighter than the sphere's box against the node's).
+  [[nodiscard]] bool apart(const CompactBox& node, double allowance, double margin) const {
+    return lower_bound(node, allowance) > margin;
+  }
   // measure(a, b, c).distance <= margin, with the same arithmetic.
   [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
     const double d = closest_point_on_triangle(center, a, b, c).distance;
@@ -232,6 +238,10 @@ struct PlacedCapsule {
     const double gap = interval_gap(std::min(dp, dq), std::max(dp, dq), 0.0, 0.0);
     const double n2 = n.squaredNorm();  // 0 for a degenerate triangle: no plane to bound by
     return n2 > 0.0 && gap * gap >= need * need * n2;
+  }
+  // As the sphere's: the segment–box bound against the margin.
+  [[nodiscard]] bool apart(const CompactBox& node, double allowance, double margin) const {
+    return lower_bound(node, allowance) > margin;
   }
   [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
     const double d = segment_distance(a, b, c).distance;
@@ -421,6 +431,12 @@ struct PlacedBox {
   [[nodiscard]] double lower_bound(const CompactBox& node, double allowance) const {
     return box_bound(node, box, allowance);
   }
+  // Nothing in the node is within `margin`: the box test of obb_overlap() (exact for two boxes,
+  // up to the allowance) separates the node's box from the shape's grown by the margin.
+  [[nodiscard]] bool apart(const CompactBox& node, double allowance, double margin) const {
+    const query_detail::BoxFrame f = frame_of(node, box);
+    return !obb_overlap(f.c, f.d, node.half_extents_d(), box.half_extents, allowance + margin);
+  }
   // Whether measure(a, b, c).distance is surely not below `limit` (box frame), as the capsule's:
   // the gap between the triangle's bounding box and the box, then the box's gap to the
   // triangle's plane (its extent along the normal n is n . 0 -+ |n| . h).
@@ -526,15 +542,14 @@ template <class P>
                                             const QueryOptions& options) {
   ShapeQueryResult result;
   if (tree.nodes.empty()) return result;
-  const double allowance = shape_allowance(tree, placed.box) + options.margin;
+  const double allowance = shape_allowance(tree, placed.box);
   const bool all = options.mode == QueryMode::all_pairs;
-  std::vector<std::uint32_t> stack{0};
+  query_detail::BasicPairStack<std::uint32_t> stack;
+  stack.push(0);
   while (!stack.empty()) {
-    const Node& node = tree.nodes[stack.back()];
-    stack.pop_back();
+    const Node& node = tree.nodes[stack.pop()];
     ++result.stats.box_tests;
-    const query_detail::BoxFrame f = frame_of(node.box, placed.box);
-    if (!obb_overlap(f.c, f.d, node.box.half_extents_d(), placed.box.half_extents, allowance)) continue;
+    if (placed.apart(node.box, allowance, options.margin)) continue;
     if (!node.is_leaf()) {
       // first_hit: the child whose center is nearer the shape's goes on top, as it is likelier to
       // hold a touching triangle (all_pairs visits both anyway).
@@ -542,8 +557,8 @@ template <class P>
       if (!all && (tree.nodes[far].box.center_d() - placed.box.center).squaredNorm() <
                       (tree.nodes[near].box.center_d() - placed.box.center).squaredNorm())
         std::swap(near, far);
-      stack.push_back(far);
-      stack.push_back(near);
+      stack.push(far);
+      stack.push(near);
       continue;
     }
     for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {

@@ -17,25 +17,28 @@
 /// Per triangle (docs/algorithms.md, "Shapes against meshes"):
 ///  - Sphere: d = |c - closest_point_on_triangle(c)| (Ericson §5.1.5, point_query.hpp); touching
 ///    iff d <= radius; the distance is d - radius otherwise.
-///  - Capsule: d = tri_tri_distance of its axis segment (the degenerate triangle (p, q, q)) and
-///    the triangle (tri_distance.hpp; exactly 0 iff they touch); touching iff d <= radius; the
-///    distance is d - radius otherwise.
+///  - Capsule: d = the distance of its axis segment and the triangle: from the segment's end points
+///    and the triangle's edges when the segment is strictly on one side of the plane, else
+///    tri_tri_distance of the degenerate triangle (p, q, q) (tri_distance.hpp; exactly 0 iff they
+///    touch); touching iff d <= radius; the distance is d - radius otherwise.
 ///  - Box: touching decided exactly on the triangle's box-frame coordinates: a corner inside the
 ///    closed box, or the triangle touching one of the box's 12 surface triangles (tri_tri_overlap,
 ///    exact predicates). The 13-axis separating-axis test of Akenine-Möller (2001, "Fast 3D
 ///    triangle-box overlap testing") rejects first, only when an axis separates by more than its
-///    rounding allowance. The distance is the least tri_tri_distance to the 12 surface triangles
-///    (a solid box and a disjoint triangle are closest on the box surface).
+///    rounding allowance. The distance of a disjoint triangle: the least over its corners against
+///    the box, and the corners and edges of the box's faces it is outside of against the
+///    triangle (the same as the least tri_tri_distance to the 12 surface triangles).
 /// So for every shape the distance is exactly 0 iff the triangle touches, and a margin query
 /// reports the triangles at distance <= margin, the same distance distance() reports.
 ///
-/// Traversal: collide culls with the shape's bounding box (bounding_box(), mapped into the mesh
-/// frame) against the tree's node boxes (obb_overlap()); distance searches best first with a lower
-/// bound per node (the sphere's center and the capsule's axis segment against the node's box, less
-/// the radius; the box's box by obb_distance_lower_bound()). Each allows for rounding, the float
-/// boxes' axes and a pose's rotation that is orthonormal only within kRotationTolerance
-/// (scene.hpp). Exact tests at the leaves. A box's distance measures only the faces a triangle
-/// is outside of (its closest point lies on one of them).
+/// Traversal: collide culls nodes with a lower bound of the distance to the node's box (sphere,
+/// capsule) or the shape's bounding box (bounding_box(), mapped into the mesh frame) against it
+/// (box); distance searches best first with that lower bound per node (the sphere's center and the
+/// capsule's axis segment against the node's box, less the radius; the box's box against it),
+/// and rules triangles out by their bounding box's and plane's gaps before measuring them. Each
+/// bound allows for rounding, the float boxes' axes and a pose's rotation that is orthonormal only
+/// within kRotationTolerance (scene.hpp). docs/algorithms.md, "Shapes against meshes", has the
+/// details.
 #include <cstdint>
 #include <limits>
 #include <variant>

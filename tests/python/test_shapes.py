@@ -170,3 +170,55 @@ def test_a_shape_as_the_query_object(elephant, elephant_model):
     assert scene.in_collision_batch(fitted, np.stack([np.eye(4), translation(9, 9, 9)])) == [{"elephant"}, set()]
     with pytest.raises(ValueError):
         scene.in_collision_single(probe, np.full((4, 4), np.nan))
+
+
+class _Attributes:
+    """A stand-in for trimesh's PrimitiveAttributes: plain attributes."""
+
+    def __init__(self, **values):
+        self.__dict__.update(values)
+
+
+def _trimesh_like(kind, mesh, **primitive):
+    """A stand-in for trimesh.primitives.<kind> (trimesh is not in Debian 12): a class of that name in
+    the module trimesh.primitives with trimesh 4's `primitive` attributes, and tessellated vertices
+    and faces (here a decoy mesh far away, so that using them instead of the primitive shows)."""
+    cls = type(kind, (), {"__module__": "trimesh.primitives"})
+    obj = cls()
+    obj.primitive = _Attributes(**primitive)
+    obj.vertices, obj.faces = mesh.vertices + 100.0, mesh.faces
+    return obj
+
+
+def test_trimesh_primitives_stay_exact(elephant, elephant_model, unit_cube):
+    top = elephant.vertices[np.argmax(elephant.vertices[:, 2])]
+    place = translation(*(top + [0, 0, 0.04]))
+    tilted = pose_matrix(rotation([0.3, -0.2, 0.9], 0.7), top + [0, 0, 0.01])
+    pairs = [
+        (_trimesh_like("Sphere", unit_cube, radius=0.05, transform=place), Sphere(0.05), place),
+        (_trimesh_like("Sphere", unit_cube, radius=0.05, center=top + [0, 0, 0.04]), Sphere(0.05), place),
+        (_trimesh_like("Box", unit_cube, extents=np.array([0.1, 0.2, 0.05]), transform=tilted),
+         Box(0.1, 0.2, 0.05), tilted),
+        (_trimesh_like("Capsule", unit_cube, radius=0.02, height=0.3, transform=tilted), Capsule(0.02, 0.3), tilted),
+    ]
+    for primitive, shape, pose in pairs:
+        want = tightbvh.collide_shape(shape, pose, elephant_model, all_pairs=True)
+        assert want.hit
+        # The primitive's own transform places it; a transform given with it moves it further.
+        got = tightbvh.collide_shape(primitive, None, elephant_model, all_pairs=True)
+        assert got.triangles.tolist() == want.triangles.tolist()
+        far = tightbvh.distance_shape(primitive, translation(0, 0, 3), elephant_model)
+        assert far.distance == pytest.approx(
+            tightbvh.distance_shape(shape, translation(0, 0, 3) @ pose, elephant_model).distance, rel=1e-12)
+        scene = tightbvh.Scene()
+        scene.add_object("elephant", elephant_model)
+        scene.add_object("part", primitive)
+        assert scene.in_collision_internal()
+        with pytest.raises(ValueError, match="is a shape"):
+            scene.model("part")
+    # A scaled primitive is not a rigid shape: its mesh stands for it (here the decoy, far away).
+    scaled = np.diag([2.0, 2.0, 2.0, 1.0])
+    with pytest.raises(TypeError):
+        tightbvh.collide_shape(_trimesh_like("Sphere", unit_cube, radius=0.05, transform=scaled), None, elephant_model)
+    with pytest.raises(ValueError, match="radius"):
+        tightbvh.collide_shape(_trimesh_like("Sphere", unit_cube, radius=-1.0, transform=place), None, elephant_model)

@@ -1,12 +1,15 @@
 // A robot arm of box links in a workcell (a table, a post, a part on the table): self-collision of
-// the arm with neighbouring links allowed to touch, the arm against the workcell, and the
-// clearance to the nearest obstacle, for a few joint angles.
+// the arm with neighbouring links allowed to touch, the arm against the workcell, the clearance to
+// the nearest obstacle, and a gripper padded by a sphere at the arm's tip (a shape, no mesh), for
+// a few joint angles.
 //   scene_robot_workcell
 #include <tightbvh/mesh.hpp>
 #include <tightbvh/model.hpp>
 #include <tightbvh/scene.hpp>
+#include <tightbvh/shape.hpp>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cstddef>
 #include <cstdio>
 #include <exception>
@@ -76,9 +79,20 @@ int main() try {
     if (nearest)
       std::printf(", clearance %.3f (%s to %s)", nearest->result.distance, arm.object(nearest->a).name.c_str(),
                   cell.object(nearest->b).name.c_str());
-    std::printf("\n");
+    // The gripper: a sphere of radius 0.15 at the tip, queried against the workcell as it is.
+    const Shape gripper = Sphere(0.15);
+    const std::vector<ObjectHit> grasped = collide(cell, gripper, joint);
+    const std::optional<ObjectDistance> gap = distance(cell, gripper, joint);
+    std::printf("; gripper touches %zu, clearance %.3f\n", grasped.size(), gap ? gap->result.distance : -1.0);
 
-    std::size_t expected = 0;
+    std::size_t expected = 0, expected_grasped = 0;
+    double expected_gap = 1e300;
+    for (const ObjectId b : cell.ids()) {
+      const SceneObject& o = cell.object(b);
+      expected_grasped += collide(std::get<Sphere>(gripper), joint, *o.model, o.pose).hit;
+      expected_gap = std::min(expected_gap, distance(std::get<Sphere>(gripper), joint, *o.model, o.pose).distance);
+    }
+    agree = agree && expected_grasped == grasped.size() && gap && gap->result.distance == expected_gap;
     for (const ObjectId a : arm.ids())
       for (const ObjectId b : cell.ids())
         expected += collide(*arm.object(a).model, arm.object(a).pose, *cell.object(b).model, cell.object(b).pose).hit;

@@ -15,7 +15,13 @@
 // its largest relative error over the poses is the counter fcl_max_rel_error, and an error above
 // kFclTolerance is a benchmark error too. The counter triangles_per_pose: tightbvh's triangle tests
 // (collide) or triangles measured (distance) per pose; nodes_per_pose: the nodes bounded (distance).
-// FCL stays in this one translation unit.
+// - ShapeCollide/bullet: Bullet 3's btSphereShape, btBoxShape (margin 0, the same outer size) and
+//   btCapsuleShapeZ against a btBvhTriangleMeshShape of the same mesh (its quantized BVH, Bullet's
+//   choice for a static mesh), through btCollisionWorld::contactPairTest: touching when a reported
+//   point has distance <= 0. Bullet has no early exit and its convex–triangle contacts come from
+//   GJK/EPA, so its yes/no is counted against brute force (bullet_wrong_poses) rather than
+//   required. Bullet has no shape–mesh distance query, so it has no ShapeDistance row.
+// FCL and Bullet stay in this one translation unit.
 #include <benchmark/benchmark.h>
 
 #include <fcl/geometry/bvh/BVH_model.h>
@@ -25,6 +31,10 @@
 #include <fcl/math/bv/OBBRSS.h>
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
+
+#ifdef TIGHTBVH_SHAPE_BULLET
+#include <btBulletCollisionCommon.h>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -67,9 +77,35 @@ const Scenario kScenarios[] = {{"touching", 0.0}, {"near", 0.01}, {"apart", 0.2}
 
 std::string source_path(const char* path) { return std::string(TIGHTBVH_SOURCE_DIR) + "/" + path; }
 
+#ifdef TIGHTBVH_SHAPE_BULLET
+// Bullet's static triangle mesh over the same triangles; Bullet keeps pointers into the arrays.
+struct BulletMesh {
+  std::vector<btScalar> vertices;
+  std::vector<int> indices;
+  std::unique_ptr<btTriangleIndexVertexArray> array;
+  std::unique_ptr<btBvhTriangleMeshShape> shape;
+  btCollisionObject object;
+
+  explicit BulletMesh(const tightbvh::Mesh& mesh) {
+    for (const Vec3& v : mesh.vertices) vertices.insert(vertices.end(), {v.x(), v.y(), v.z()});
+    for (const auto& t : mesh.triangles)
+      indices.insert(indices.end(), {static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2])});
+    array = std::make_unique<btTriangleIndexVertexArray>(
+        static_cast<int>(mesh.triangles.size()), indices.data(), static_cast<int>(3 * sizeof(int)),
+        static_cast<int>(mesh.vertices.size()), vertices.data(), static_cast<int>(3 * sizeof(btScalar)));
+    shape = std::make_unique<btBvhTriangleMeshShape>(array.get(), true);
+    shape->setMargin(0);  // exact geometry, as every engine here
+    object.setCollisionShape(shape.get());
+  }
+};
+#endif
+
 struct MeshData {
   tightbvh::ModelPtr model;
   std::shared_ptr<FclMesh> fcl;
+#ifdef TIGHTBVH_SHAPE_BULLET
+  std::shared_ptr<BulletMesh> bullet;
+#endif
   double diagonal = 0.0;
 };
 
@@ -91,6 +127,9 @@ const MeshData& get_mesh(const MeshEntry& entry) {
   m.fcl->addSubModel(vertices, triangles);
   m.fcl->endModel();
   m.fcl->computeLocalAABB();
+#ifdef TIGHTBVH_SHAPE_BULLET
+  m.bullet = std::make_shared<BulletMesh>(mesh);
+#endif
   return m;
 }
 
@@ -117,6 +156,23 @@ std::shared_ptr<fcl::CollisionGeometryd> to_fcl(const tightbvh::Box& s) {
 std::shared_ptr<fcl::CollisionGeometryd> to_fcl(const tightbvh::Capsule& s) {
   return std::make_shared<fcl::Capsuled>(s.radius, s.length);
 }
+#ifdef TIGHTBVH_SHAPE_BULLET
+std::shared_ptr<btCollisionShape> to_bullet(const tightbvh::Sphere& s) { return std::make_shared<btSphereShape>(s.radius); }
+std::shared_ptr<btCollisionShape> to_bullet(const tightbvh::Box& s) {
+  auto box = std::make_shared<btBoxShape>(btVector3(0.5 * s.size.x(), 0.5 * s.size.y(), 0.5 * s.size.z()));
+  box->setMargin(0);  // keeps the outer size (btBoxShape::setMargin)
+  return box;
+}
+std::shared_ptr<btCollisionShape> to_bullet(const tightbvh::Capsule& s) {
+  return std::make_shared<btCapsuleShapeZ>(s.radius, s.length);  // height: the axis segment, as FCL's lz
+}
+btTransform to_bullet(const Pose& pose) {
+  const tightbvh::Mat3& r = pose.rotation;
+  return btTransform(btMatrix3x3(r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2)),
+                     btVector3(pose.translation.x(), pose.translation.y(), pose.translation.z()));
+}
+#endif
+
 double reach(const tightbvh::Sphere& s) { return s.radius; }
 double reach(const tightbvh::Box& s) { return 0.5 * s.size.norm(); }
 double reach(const tightbvh::Capsule& s) { return 0.5 * s.length + s.radius; }
@@ -135,6 +191,9 @@ struct Case {
   std::vector<Pose> poses;
   std::vector<std::shared_ptr<fcl::CollisionGeometryd>> fcl_shapes;
   std::vector<fcl::Transform3d> fcl_poses;
+#ifdef TIGHTBVH_SHAPE_BULLET
+  std::vector<std::shared_ptr<btCollisionShape>> bullet_shapes;
+#endif
   std::vector<bool> hits;          // collide_brute_force
   std::vector<double> distances;   // distance_brute_force
 };
@@ -183,6 +242,9 @@ const Case<S>& get_case(const MeshEntry& entry, const Scenario& scenario) {
     c.poses.push_back(pose);
     c.fcl_shapes.push_back(to_fcl(shape));
     c.fcl_poses.push_back(to_fcl(pose));
+#ifdef TIGHTBVH_SHAPE_BULLET
+    c.bullet_shapes.push_back(to_bullet(shape));
+#endif
     c.hits.push_back(tightbvh::collide_brute_force(shape, pose, mesh, Pose::identity()).hit);
     c.distances.push_back(tightbvh::distance_brute_force(shape, pose, mesh, Pose::identity()).distance);
   }
@@ -243,6 +305,46 @@ void fcl_collide(benchmark::State& state, const MeshEntry& entry, const Scenario
     }
   check_hits(state, got, c.hits);
 }
+
+#ifdef TIGHTBVH_SHAPE_BULLET
+// Whether contactPairTest reported a point at distance <= 0 (Bullet's contact points; points at a
+// positive distance are closest points, not contacts).
+struct AnyContact final : btCollisionWorld::ContactResultCallback {
+  bool any = false;
+  btScalar addSingleResult(btManifoldPoint& cp, const btCollisionObjectWrapper*, int, int, const btCollisionObjectWrapper*,
+                           int, int) override {
+    if (cp.getDistance() <= 0) any = true;
+    return 0;
+  }
+};
+
+template <class S>
+void bullet_collide(benchmark::State& state, const MeshEntry& entry, const Scenario& scenario) {
+  const Case<S>& c = get_case<S>(entry, scenario);
+  if (!usable(state, c)) return;
+  btDefaultCollisionConfiguration config;
+  btCollisionDispatcher dispatcher(&config);
+  btDbvtBroadphase broadphase;
+  btCollisionWorld world(&dispatcher, &broadphase, &config);
+  btCollisionObject& mesh = c.mesh->bullet->object;
+  btCollisionObject shape;
+  std::vector<bool> got(c.poses.size());
+  std::vector<btTransform> poses;
+  for (const Pose& pose : c.poses) poses.push_back(to_bullet(pose));
+  for (auto _ : state)
+    for (std::size_t i = 0; i < c.poses.size(); ++i) {
+      shape.setCollisionShape(c.bullet_shapes[i].get());
+      shape.setWorldTransform(poses[i]);
+      AnyContact contact;
+      world.contactPairTest(&mesh, &shape, contact);
+      got[i] = contact.any;
+    }
+  std::size_t wrong = 0;
+  for (std::size_t i = 0; i < got.size(); ++i) wrong += got[i] == c.hits[i] ? 0 : 1;
+  state.counters["bullet_wrong_poses"] = static_cast<double>(wrong);
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * got.size()));
+}
+#endif
 
 // Relative error of a distance against the brute force's (absolute, relative to the diagonal, when
 // the brute force says 0).
@@ -309,6 +411,10 @@ void register_shape(const char* shape) {
           ->Unit(benchmark::kMicrosecond);
       benchmark::RegisterBenchmark(("ShapeCollide/fcl/" + suffix).c_str(), fcl_collide<S>, entry, scenario)
           ->Unit(benchmark::kMicrosecond);
+#ifdef TIGHTBVH_SHAPE_BULLET
+      benchmark::RegisterBenchmark(("ShapeCollide/bullet/" + suffix).c_str(), bullet_collide<S>, entry, scenario)
+          ->Unit(benchmark::kMicrosecond);
+#endif
       benchmark::RegisterBenchmark(("ShapeDistance/tightbvh/" + suffix).c_str(), tightbvh_distance<S>, entry,
                                    scenario)
           ->Unit(benchmark::kMicrosecond);

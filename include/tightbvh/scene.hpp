@@ -191,6 +191,10 @@ struct ObjectDistance {
 /// Every scene object touching `model` at `pose` (the query object ignores filters and allowed pairs).
 [[nodiscard]] std::vector<ObjectHit> collide(const Scene& scene, const Model& model, const Pose& pose,
                                              const QueryOptions& options = {}, unsigned threads = 1);
+/// Every scene object touching `shape` at `pose` (as for a model; the query object is B, so a
+/// hit's triangle pairs are (scene object's triangle, 0) against a model and empty against a shape).
+[[nodiscard]] std::vector<ObjectHit> collide(const Scene& scene, const Shape& shape, const Pose& pose,
+                                             const QueryOptions& options = {}, unsigned threads = 1);
 /// Every object pair (one of `a`, one of `b`) that touches and whose filters meet both ways;
 /// allowed pairs are per scene and do not apply across scenes. `a` and `b` must be different scenes.
 [[nodiscard]] std::vector<ObjectPairHit> collide(const Scene& a, const Scene& b, const QueryOptions& options = {},
@@ -200,6 +204,10 @@ struct ObjectDistance {
 [[nodiscard]] std::vector<std::vector<ObjectHit>> collide_batch(const Scene& scene, const Model& model,
                                                                 std::span<const Pose> poses,
                                                                 const QueryOptions& options = {}, unsigned threads = 0);
+/// collide(scene, shape, pose) for every pose, as for a model.
+[[nodiscard]] std::vector<std::vector<ObjectHit>> collide_batch(const Scene& scene, const Shape& shape,
+                                                                std::span<const Pose> poses,
+                                                                const QueryOptions& options = {}, unsigned threads = 0);
 
 /// The closest tested object pair of the scene, with its points (options as for distance();
 /// closed_a / closed_b ignored); none when the scene has no tested pair closer than
@@ -207,6 +215,9 @@ struct ObjectDistance {
 [[nodiscard]] std::optional<ObjectPairDistance> distance(const Scene& scene, const DistanceOptions& options = {});
 /// The scene object closest to `model` at `pose`; ties: the lowest id.
 [[nodiscard]] std::optional<ObjectDistance> distance(const Scene& scene, const Model& model, const Pose& pose,
+                                                     const DistanceOptions& options = {});
+/// The scene object closest to `shape` at `pose`; ties: the lowest id.
+[[nodiscard]] std::optional<ObjectDistance> distance(const Scene& scene, const Shape& shape, const Pose& pose,
                                                      const DistanceOptions& options = {});
 /// The closest object pair across two different scenes (filters apply, allowed pairs do not).
 [[nodiscard]] std::optional<ObjectPairDistance> distance(const Scene& a, const Scene& b,
@@ -220,6 +231,10 @@ struct ObjectDistance {
                                                               unsigned threads = 1);
 /// Every scene object closer than `max_distance` to `model` at `pose`.
 [[nodiscard]] std::vector<ObjectDistance> distance_within(const Scene& scene, const Model& model, const Pose& pose,
+                                                          double max_distance, const DistanceOptions& options = {},
+                                                          unsigned threads = 1);
+/// Every scene object closer than `max_distance` to `shape` at `pose`.
+[[nodiscard]] std::vector<ObjectDistance> distance_within(const Scene& scene, const Shape& shape, const Pose& pose,
                                                           double max_distance, const DistanceOptions& options = {},
                                                           unsigned threads = 1);
 /// Every object pair across two different scenes closer than `max_distance`.

@@ -18,15 +18,17 @@
 /// Per triangle (docs/algorithms.md, "Shapes against meshes"):
 ///  - Sphere: d = |c - closest_point_on_triangle(c)| (Ericson §5.1.5, point_query.hpp); touching
 ///    iff d <= radius; the distance is d - radius otherwise.
-///  - Capsule: d = tri_tri_distance of its axis segment (the degenerate triangle (p, q, q)) and
-///    the triangle (tri_distance.hpp; exactly 0 iff they touch); touching iff d <= radius; the
-///    distance is d - radius otherwise.
+///  - Capsule: d = the distance of its axis segment and the triangle: from the segment's end points
+///    and the triangle's edges when the segment is strictly on one side of the plane, else
+///    tri_tri_distance of the degenerate triangle (p, q, q) (tri_distance.hpp; exactly 0 iff they
+///    touch); touching iff d <= radius; the distance is d - radius otherwise.
 ///  - Box: touching decided exactly on the triangle's box-frame coordinates: a corner inside the
 ///    closed box, or the triangle touching one of the box's 12 surface triangles (tri_tri_overlap,
 ///    exact predicates). The 13-axis separating-axis test of Akenine-Möller (2001, "Fast 3D
 ///    triangle-box overlap testing") rejects first, only when an axis separates by more than its
-///    rounding allowance. The distance is the least tri_tri_distance to the 12 surface triangles
-///    (a solid box and a disjoint triangle are closest on the box surface).
+///    rounding allowance. The distance of a disjoint triangle: the least over its corners against
+///    the box, and the corners and edges of the box's faces it is outside of against the
+///    triangle (the same as the least tri_tri_distance to the 12 surface triangles).
 ///  - Convex: exact, as the box, on the triangle's coordinates in the hull's frame: a hull face
 ///    plane with every corner strictly outside rejects (orient3d, exact); else a corner inside the
 ///    closed hull (orient3d against every face) or the triangle touching a face (tri_tri_overlap)
@@ -36,19 +38,21 @@
 ///  - Cylinder: GJK (Gilbert, Johnson & Keerthi 1988) between the triangle and the cylinder, in
 ///    the cylinder's frame; touching iff the GJK distance is at most kCylinderTolerance times the
 ///    scale (the largest of the radius, half the length and the triangle's coordinates in that
-///    frame), the distance is the GJK distance otherwise (within 1e-12 relative of the true one,
-///    or kCylinderTolerance of the scale). Not exact: within that tolerance of the boundary the
+///    frame); the distance otherwise from GJK's point of the triangle to the cylinder's exact
+///    closest point (within 1e-12 relative of the true one, or 1e-12 of the scale). Not exact: within that tolerance of the boundary the
 ///    decision may go either way.
 /// So for every shape the distance is exactly 0 iff the triangle touches, and a margin query
 /// reports the triangles at distance <= margin, the same distance distance() reports.
 ///
-/// Traversal: collide culls with the shape's bounding box (bounding_box(), mapped into the mesh
-/// frame) against the tree's node boxes (obb_overlap()); distance searches best first with a lower
-/// bound per node (the sphere's center and the capsule's axis segment against the node's box, less
-/// the radius; the box's box by obb_distance_lower_bound()). Each allows for rounding, the float
-/// boxes' axes and a pose's rotation that is orthonormal only within kRotationTolerance
-/// (scene.hpp). Exact tests at the leaves. A box's distance measures only the faces a triangle
-/// is outside of (its closest point lies on one of them).
+/// Traversal: collide culls nodes with a lower bound of the distance to the node's box (sphere,
+/// capsule) or the shape's bounding box (bounding_box(), mapped into the mesh frame) against it
+/// (box, cylinder, convex); distance searches best first with that lower bound per node (the
+/// sphere's center and the capsule's axis segment against the node's box, less the radius; the
+/// others' box against it),
+/// and rules triangles out by their bounding box's and plane's gaps before measuring them. Each
+/// bound allows for rounding, the float boxes' axes and a pose's rotation that is orthonormal only
+/// within kRotationTolerance (scene.hpp). docs/algorithms.md, "Shapes against meshes", has the
+/// details.
 #include <array>
 #include <cstdint>
 #include <limits>

@@ -279,17 +279,16 @@ class PyScene {
   }
 
   py::object in_collision_single(py::handle mesh, py::handle transform, bool return_names, bool return_data) {
-    const Pose pose = to_pose(transform, "transform");
-    const ModelPtr model = query_model(mesh);
+    const SceneObject query = query_object(mesh, transform);
     std::vector<ObjectHit> hits;
     {
       const py::gil_scoped_release release;
-      hits = collide(scene_, *model, pose, options(return_data), threads_);
+      hits = query.shape ? collide(scene_, *query.shape, query.pose, options(return_data), threads_)
+                         : collide(scene_, *query.model, query.pose, options(return_data), threads_);
     }
     if (!return_names && !return_data) return py::bool_(!hits.empty());
     py::set names;
     py::list data;
-    const SceneObject query{model, pose, 1, kAllGroups, kExternal};
     for (const ObjectHit& hit : hits) {
       const SceneObject& a = scene_.object(hit.id);
       if (return_names) names.add(py::str(a.name));
@@ -332,17 +331,17 @@ class PyScene {
   }
 
   py::object min_distance_single(py::handle mesh, py::handle transform, bool return_name, bool return_data) {
-    const Pose pose = to_pose(transform, "transform");
-    const ModelPtr model = query_model(mesh);
+    const SceneObject query = query_object(mesh, transform);
     std::optional<ObjectDistance> d;
     {
       const py::gil_scoped_release release;
-      d = distance(scene_, *model, pose, distance_options());
+      d = query.shape ? distance(scene_, *query.shape, query.pose, distance_options())
+                      : distance(scene_, *query.model, query.pose, distance_options());
     }
     if (!d) return shaped(py::float_(inf()), return_name, py::none(), return_data, py::none());
     const std::string& name = scene_.object(d->id).name;
     return shaped(py::float_(d->result.distance), return_name, py::str(name), return_data,
-                  distance_data(name, kExternal, d->result, scene_.object(d->id).shape.has_value(), false));
+                  distance_data(name, kExternal, d->result, scene_.object(d->id).shape.has_value(), query.shape.has_value()));
   }
 
   py::object min_distance_other(const PyScene& other, bool return_names, bool return_data) const {
@@ -382,18 +381,20 @@ class PyScene {
 
   // The same for one query object: keyed by the scene object's name.
   py::object distance_within_single(py::handle mesh, double max_distance, py::handle transform, bool return_data) {
-    const Pose pose = to_pose(transform, "transform");
-    const ModelPtr model = query_model(mesh);
+    const SceneObject query = query_object(mesh, transform);
     std::vector<ObjectDistance> found;
     {
       const py::gil_scoped_release release;
-      found = distance_within(scene_, *model, pose, max_distance, distance_options(), threads_);
+      found = query.shape ? distance_within(scene_, *query.shape, query.pose, max_distance, distance_options(), threads_)
+                          : distance_within(scene_, *query.model, query.pose, max_distance, distance_options(), threads_);
     }
     py::dict distances, data;
     for (const ObjectDistance& d : found) {
       const std::string& name = scene_.object(d.id).name;
       distances[py::str(name)] = d.result.distance;
-      if (return_data) data[py::str(name)] = distance_data(name, kExternal, d.result, scene_.object(d.id).shape.has_value(), false);
+      if (return_data)
+        data[py::str(name)] = distance_data(name, kExternal, d.result, scene_.object(d.id).shape.has_value(),
+                                            query.shape.has_value());
     }
     return return_data ? py::object(py::make_tuple(distances, data)) : py::object(distances);
   }
@@ -420,12 +421,21 @@ class PyScene {
 
   // One in_collision_single per transform, on all of the scene's threads; the names per pose.
   py::list in_collision_batch(py::handle mesh, py::handle transforms) {
-    const std::vector<Pose> poses = to_poses(transforms, "transforms");
-    const ModelPtr model = query_model(mesh);
+    std::vector<Pose> poses = to_poses(transforms, "transforms");
+    std::optional<Shape> shape;
+    ModelPtr model;
+    if (const std::optional<ShapeAt> probe = shape_at(mesh, Pose{})) {
+      shape = probe->shape;
+      // A fitted Box carries its own pose: each transform is composed with it, as add_object does.
+      for (Pose& pose : poses) pose = shape_at(mesh, pose)->pose;
+    } else {
+      model = query_model(mesh);
+    }
     std::vector<std::vector<ObjectHit>> hits;
     {
       const py::gil_scoped_release release;
-      hits = collide_batch(scene_, *model, poses, options(false), threads_);
+      hits = shape ? collide_batch(scene_, *shape, poses, options(false), threads_)
+                   : collide_batch(scene_, *model, poses, options(false), threads_);
     }
     py::list result;
     for (const std::vector<ObjectHit>& per_pose : hits) {
@@ -592,6 +602,15 @@ class PyScene {
 
   // The model of a query mesh: an object's model when the same Python object was added, else
   // built once and kept in a small cache (the last kQueryCache query meshes).
+  // The query object of the *_single calls: a shape (tightbvh.shapes, or a fitted Box) at the
+  // transform, or a mesh's model (cached as query_model says).
+  SceneObject query_object(py::handle mesh, py::handle transform) {
+    const Pose pose = to_pose(transform, "transform");
+    if (const std::optional<ShapeAt> shape = shape_at(mesh, pose))
+      return SceneObject{nullptr, shape->pose, 1, kAllGroups, kExternal, shape->shape};
+    return SceneObject{query_model(mesh), pose, 1, kAllGroups, kExternal};
+  }
+
   ModelPtr query_model(py::handle mesh) {
     if (py::isinstance<PyModel>(mesh)) return mesh.cast<const PyModel&>().model;
     const py::int_ key(reinterpret_cast<std::uintptr_t>(mesh.ptr()));
@@ -766,8 +785,8 @@ void bind_scene(py::module_& m) {
            "ContactData (every touching triangle pair).")
       .def("in_collision_single", &PyScene::in_collision_single, py::arg("mesh"), py::arg("transform") = py::none(),
            py::arg("return_names") = false, py::arg("return_data") = false,
-           "bool; with return_names the set of the names touching `mesh`; with return_data a list of ContactData "
-           "(the query object named '__external').")
+           "bool; with return_names the set of the names touching `mesh` (a mesh, a Model or a shape); with "
+           "return_data a list of ContactData (the query object named '__external').")
       .def("in_collision_other", &PyScene::in_collision_other, py::arg("other_manager"),
            py::arg("return_names") = false, py::arg("return_data") = false,
            "bool; with return_names a set of (name in this scene, name in other) tuples; with return_data "

@@ -120,7 +120,49 @@ ShapeDistanceResult shape_distance_from_state(const py::object& state) {
 
 }  // namespace
 
+namespace {
+
+// Three numbers (a NumPy array or any sequence); ValueError naming `name` otherwise.
+[[nodiscard]] Vec3 vec3_of(py::handle object, const std::string& name) {
+  const py::sequence values = py::reinterpret_borrow<py::sequence>(object);
+  if (!py::isinstance<py::sequence>(object) || py::len(values) != 3) throw py::value_error(name + ": expected 3 numbers");
+  return {py::float_(values[0]).cast<double>(), py::float_(values[1]).cast<double>(), py::float_(values[2]).cast<double>()};
+}
+
+// trimesh's primitives, kept exact rather than taken as their tessellated vertices and faces:
+// trimesh.primitives.Sphere, Box and Capsule, read from the attributes of their `primitive`
+// (radius, extents, height, transform; an older Sphere's center when it has no transform). Their
+// conventions are FCL's: each centered in its frame, Box's extents its full side lengths,
+// Capsule along z with height the distance of its caps' centers. A primitive whose transform is
+// not rigid (scaled) is left to be its mesh, as trimesh itself would collide it.
+[[nodiscard]] std::optional<ShapeAt> trimesh_primitive(py::handle object, const Pose& pose) {
+  const py::handle type = py::type::handle_of(object);
+  if (!py::hasattr(type, "__module__") || py::str(type.attr("__module__")).cast<std::string>() != "trimesh.primitives")
+    return std::nullopt;
+  const std::string kind = py::str(type.attr("__name__"));
+  if (kind != "Sphere" && kind != "Box" && kind != "Capsule") return std::nullopt;
+  const py::object p = object.attr("primitive");
+  Pose local = Pose::identity();
+  if (py::hasattr(p, "transform")) {
+    try {
+      local = to_pose(p.attr("transform"), "trimesh " + kind + " primitive.transform");
+    } catch (const py::value_error&) {
+      return std::nullopt;  // not rigid: its mesh stands for it
+    }
+  } else {
+    local.translation = vec3_of(p.attr("center"), "trimesh " + kind + " primitive.center");
+  }
+  const Pose placed{pose.rotation * local.rotation, pose.apply(local.translation)};
+  const auto size = [&](const char* field) { return py::float_(p.attr(field)).cast<double>(); };
+  if (kind == "Sphere") return ShapeAt{Sphere(size("radius")), placed};
+  if (kind == "Capsule") return ShapeAt{Capsule(size("radius"), size("height")), placed};
+  return ShapeAt{Box(vec3_of(p.attr("extents"), "trimesh Box primitive.extents")), placed};
+}
+
+}  // namespace
+
 std::optional<ShapeAt> shape_at(py::handle object, const Pose& pose) {
+  if (auto primitive = trimesh_primitive(object, pose)) return primitive;
   if (py::isinstance<Sphere>(object)) return ShapeAt{object.cast<Sphere>(), pose};
   if (py::isinstance<Box>(object)) return ShapeAt{object.cast<Box>(), pose};
   if (py::isinstance<Capsule>(object)) return ShapeAt{object.cast<Capsule>(), pose};

@@ -1,6 +1,6 @@
 // The cylinder and the convex hull against a triangle, in the mesh frame: the Placed types of
 // shape_query.cpp. Included by shape_query.cpp inside its anonymous namespace, after Measure,
-// box_bound(), interval_gap() and needed_gap(), which these use. See include/tightbvh/shape.hpp.
+// frame_of(), box_bound(), interval_gap() and needed_gap(), which these use. See include/tightbvh/shape.hpp.
 
 // The gap between the triangle's bounding box and the box [lo, hi] (squared), and the scale of
 // their coordinates.
@@ -83,6 +83,11 @@ struct PlacedCylinder {
   }
   [[nodiscard]] double lower_bound(const CompactBox& node, double allowance) const {
     return box_bound(node, box, allowance);
+  }
+  // Nothing in the node is within `margin`: the shape's box against the node's, as the box's.
+  [[nodiscard]] bool apart(const CompactBox& node, double allowance, double margin) const {
+    const query_detail::BoxFrame f = frame_of(node, box);
+    return !obb_overlap(f.c, f.d, node.half_extents_d(), box.half_extents, allowance + margin);
   }
   // The gap between the triangle's bounding box and the cylinder's (cylinder frame) against the
   // limit, as the box's ruled_out().
@@ -239,6 +244,11 @@ struct PlacedConvex {
   }
   [[nodiscard]] double lower_bound(const CompactBox& node, double allowance) const {
     return box_bound(node, box, allowance);
+  }
+  // Nothing in the node is within `margin`: the shape's box against the node's, as the box's.
+  [[nodiscard]] bool apart(const CompactBox& node, double allowance, double margin) const {
+    const query_detail::BoxFrame f = frame_of(node, box);
+    return !obb_overlap(f.c, f.d, node.half_extents_d(), box.half_extents, allowance + margin);
   }
   [[nodiscard]] bool ruled_out(const Vec3& a, const Vec3& b, const Vec3& c, double limit) const {
     if (!(limit < std::numeric_limits<double>::infinity())) return false;

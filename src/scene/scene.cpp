@@ -486,16 +486,30 @@ std::optional<ObjectPairDistance> nearest(const TopTree& x, const TopTree& y, bo
   return best;
 }
 
+// The scene object that stands for the query object of the single-object queries: a model (held
+// by a non-owning pointer, for the query's duration) or a shape.
+SceneObject query_object(const Model& model, const Pose& pose) {
+  SceneObject object;
+  object.model = ModelPtr(ModelPtr(), &model);
+  object.pose = pose;
+  return object;
+}
+SceneObject query_object(const Shape& shape, const Pose& pose) {
+  SceneObject object;
+  object.shape = shape;
+  object.pose = pose;
+  return object;
+}
+
 // A one-object stand-in for the query object of the single-object queries.
 struct QueryObject {
   Slot slot;
   TopTree tree;
-  QueryObject(const Model& model, const Pose& pose, const char* who) {
+  template <class Q>
+  QueryObject(const Q& query, const Pose& pose, const char* who) {
     require_valid_pose(pose, who, "the query pose");
-    // The slot holds a non-owning pointer to the caller's model for the query's duration.
-    slot.object.model = ModelPtr(ModelPtr(), &model);
-    slot.object.pose = pose;
-    slot.box = world_bounds(model, pose);
+    slot.object = query_object(query, pose);
+    slot.box = world_bounds(query, pose);
     tree.build(std::span<const Aabb>(&slot.box, 1));
   }
 };
@@ -693,16 +707,82 @@ std::vector<ObjectPairHit> collide(const Scene& scene, const QueryOptions& optio
   return collide_jobs(self_jobs(s, options.margin), options, threads, s.workspaces);
 }
 
-std::vector<ObjectHit> collide(const Scene& scene, const Model& model, const Pose& pose, const QueryOptions& options,
-                               unsigned threads) {
+namespace {
+
+template <class Q>
+std::vector<ObjectHit> collide_single(const Scene& scene, const Q& object, const Pose& pose, const QueryOptions& options,
+                                      unsigned threads) {
   check_margin(options.margin);
-  const QueryObject query(model, pose, "scene collide");
+  const QueryObject query(object, pose, "scene collide");
   std::vector<Job> jobs = single_jobs(Access::state(scene), query.slot.box, options.margin);
   for (Job& j : jobs) j.sb = &query.slot;
   std::vector<ObjectHit> out;
   for (ObjectPairHit& hit : collide_jobs(jobs, options, threads, Access::state(scene).workspaces))
     out.push_back({hit.a, std::move(hit.result)});
   return out;
+}
+
+template <class Q>
+std::vector<std::vector<ObjectHit>> collide_batch_single(const Scene& scene, const Q& object, std::span<const Pose> poses,
+                                                         const QueryOptions& options, unsigned threads) {
+  check_margin(options.margin);
+  for (std::size_t i = 0; i < poses.size(); ++i)
+    if (!valid_pose(poses[i])) require_valid_pose(poses[i], "scene collide_batch", "pose " + std::to_string(i));
+  const State& s = Access::state(scene);
+  s.prepare();
+  const QueryOptions o = scene_options(options);
+  return run_jobs<std::vector<ObjectHit>>(poses.size(), threads, s.workspaces, [&](std::size_t i, QueryWorkspace& workspace) {
+    std::vector<std::uint32_t> slots;
+    scene_detail::close_items(s.tree, world_bounds(object, poses[i]), options.margin,
+                              [&](std::uint32_t slot) { slots.push_back(slot); });
+    std::sort(slots.begin(), slots.end(), [&](std::uint32_t x, std::uint32_t y) { return s.slots[x].id < s.slots[y].id; });
+    const SceneObject query = query_object(object, poses[i]);
+    std::vector<ObjectHit> hits;
+    for (const std::uint32_t slot : slots) {
+      QueryResult r = pair_collide(s.slots[slot].object, query, o, workspace);
+      if (r.hit) hits.push_back({s.slots[slot].id, std::move(r)});
+    }
+    return hits;
+  });
+}
+
+template <class Q>
+std::optional<ObjectDistance> distance_single(const Scene& scene, const Q& object, const Pose& pose,
+                                              const DistanceOptions& options) {
+  const QueryObject query(object, pose, "scene distance");
+  const State& s = Access::state(scene);
+  s.prepare();
+  auto best = nearest(s.tree, query.tree, false, options, [&](std::uint32_t i, std::uint32_t, Job& job) {
+    job = {s.slots[i].id, 0, &s.slots[i], &query.slot};
+    return true;
+  });
+  if (!best) return std::nullopt;
+  return ObjectDistance{best->a, std::move(best->result)};
+}
+
+template <class Q>
+std::vector<ObjectDistance> distance_within_single(const Scene& scene, const Q& object, const Pose& pose,
+                                                   double max_distance, const DistanceOptions& options, unsigned threads) {
+  check_max_distance(max_distance);
+  const QueryObject query(object, pose, "scene distance_within");
+  std::vector<Job> jobs = single_jobs(Access::state(scene), query.slot.box, max_distance);
+  for (Job& j : jobs) j.sb = &query.slot;
+  std::vector<ObjectDistance> out;
+  for (ObjectPairDistance& d : within_jobs(jobs, max_distance, options, threads, Access::state(scene).workspaces))
+    out.push_back({d.a, std::move(d.result)});
+  return out;
+}
+
+}  // namespace
+
+std::vector<ObjectHit> collide(const Scene& scene, const Model& model, const Pose& pose, const QueryOptions& options,
+                               unsigned threads) {
+  return collide_single(scene, model, pose, options, threads);
+}
+
+std::vector<ObjectHit> collide(const Scene& scene, const Shape& shape, const Pose& pose, const QueryOptions& options,
+                               unsigned threads) {
+  return collide_single(scene, shape, pose, options, threads);
 }
 
 std::vector<ObjectPairHit> collide(const Scene& a, const Scene& b, const QueryOptions& options, unsigned threads) {
@@ -713,27 +793,12 @@ std::vector<ObjectPairHit> collide(const Scene& a, const Scene& b, const QueryOp
 
 std::vector<std::vector<ObjectHit>> collide_batch(const Scene& scene, const Model& model, std::span<const Pose> poses,
                                                   const QueryOptions& options, unsigned threads) {
-  check_margin(options.margin);
-  for (std::size_t i = 0; i < poses.size(); ++i)
-    if (!valid_pose(poses[i])) require_valid_pose(poses[i], "scene collide_batch", "pose " + std::to_string(i));
-  const State& s = Access::state(scene);
-  s.prepare();
-  const QueryOptions o = scene_options(options);
-  return run_jobs<std::vector<ObjectHit>>(poses.size(), threads, s.workspaces, [&](std::size_t i, QueryWorkspace& workspace) {
-    std::vector<std::uint32_t> slots;
-    scene_detail::close_items(s.tree, world_bounds(model, poses[i]), options.margin,
-                              [&](std::uint32_t slot) { slots.push_back(slot); });
-    std::sort(slots.begin(), slots.end(), [&](std::uint32_t x, std::uint32_t y) { return s.slots[x].id < s.slots[y].id; });
-    SceneObject query;
-    query.model = ModelPtr(ModelPtr(), &model);  // non-owning, for the call
-    query.pose = poses[i];
-    std::vector<ObjectHit> hits;
-    for (const std::uint32_t slot : slots) {
-      QueryResult r = pair_collide(s.slots[slot].object, query, o, workspace);
-      if (r.hit) hits.push_back({s.slots[slot].id, std::move(r)});
-    }
-    return hits;
-  });
+  return collide_batch_single(scene, model, poses, options, threads);
+}
+
+std::vector<std::vector<ObjectHit>> collide_batch(const Scene& scene, const Shape& shape, std::span<const Pose> poses,
+                                                  const QueryOptions& options, unsigned threads) {
+  return collide_batch_single(scene, shape, poses, options, threads);
 }
 
 std::optional<ObjectPairDistance> distance(const Scene& scene, const DistanceOptions& options) {
@@ -751,15 +816,12 @@ std::optional<ObjectPairDistance> distance(const Scene& scene, const DistanceOpt
 
 std::optional<ObjectDistance> distance(const Scene& scene, const Model& model, const Pose& pose,
                                        const DistanceOptions& options) {
-  const QueryObject query(model, pose, "scene distance");
-  const State& s = Access::state(scene);
-  s.prepare();
-  auto best = nearest(s.tree, query.tree, false, options, [&](std::uint32_t i, std::uint32_t, Job& job) {
-    job = {s.slots[i].id, 0, &s.slots[i], &query.slot};
-    return true;
-  });
-  if (!best) return std::nullopt;
-  return ObjectDistance{best->a, std::move(best->result)};
+  return distance_single(scene, model, pose, options);
+}
+
+std::optional<ObjectDistance> distance(const Scene& scene, const Shape& shape, const Pose& pose,
+                                       const DistanceOptions& options) {
+  return distance_single(scene, shape, pose, options);
 }
 
 std::optional<ObjectPairDistance> distance(const Scene& a, const Scene& b, const DistanceOptions& options) {
@@ -786,14 +848,12 @@ std::vector<ObjectPairDistance> distance_within(const Scene& scene, double max_d
 
 std::vector<ObjectDistance> distance_within(const Scene& scene, const Model& model, const Pose& pose,
                                             double max_distance, const DistanceOptions& options, unsigned threads) {
-  check_max_distance(max_distance);
-  const QueryObject query(model, pose, "scene distance_within");
-  std::vector<Job> jobs = single_jobs(Access::state(scene), query.slot.box, max_distance);
-  for (Job& j : jobs) j.sb = &query.slot;
-  std::vector<ObjectDistance> out;
-  for (ObjectPairDistance& d : within_jobs(jobs, max_distance, options, threads, Access::state(scene).workspaces))
-    out.push_back({d.a, std::move(d.result)});
-  return out;
+  return distance_within_single(scene, model, pose, max_distance, options, threads);
+}
+
+std::vector<ObjectDistance> distance_within(const Scene& scene, const Shape& shape, const Pose& pose,
+                                            double max_distance, const DistanceOptions& options, unsigned threads) {
+  return distance_within_single(scene, shape, pose, max_distance, options, threads);
 }
 
 std::vector<ObjectPairDistance> distance_within(const Scene& a, const Scene& b, double max_distance,

@@ -139,3 +139,86 @@ def test_shapes_in_a_scene(elephant, elephant_model):
     assert copied.hit == result.hit and copied.triangles.tolist() == result.triangles.tolist()
     far = tightbvh.distance_shape(Sphere(0.05), translation(3, 0, 0), elephant_model)
     assert pickle.loads(pickle.dumps(far)).point_mesh.tolist() == far.point_mesh.tolist()
+
+
+def test_a_shape_as_the_query_object(elephant, elephant_model):
+    # The *_single calls and in_collision_batch take a shape where they take a mesh: the same
+    # answers as the pair calls against each object.
+    scene = tightbvh.Scene()
+    scene.add_object("elephant", elephant_model)
+    top = elephant.vertices[np.argmax(elephant.vertices[:, 2])]
+    scene.add_object("rod", Capsule(0.02, 0.5), translation(*(top + [0, 0, 0.6])))
+    probe = Sphere(0.05)
+    at_top = translation(*(top + [0, 0, 0.04]))  # dips into the elephant, 0.2 below the rod
+    hit, names, data = scene.in_collision_single(probe, at_top, return_names=True, return_data=True)
+    assert hit and names == {"elephant"}
+    assert all(c.index("__external") is None and c.index("elephant") >= 0 for c in data)
+    assert tightbvh.distance_shape(probe, at_top, elephant_model).distance == 0
+    within = scene.distance_within_single(probe, 0.5, at_top)
+    assert set(within) == {"elephant", "rod"}
+    assert within["rod"] == pytest.approx(0.6 - 0.25 - 0.02 - 0.04 - 0.05, rel=1e-12)
+    above = translation(*(top + [0, 0, 0.2]))
+    distance, name, info = scene.min_distance_single(probe, above, return_name=True, return_data=True)
+    assert name == "rod" and distance == pytest.approx(0.6 - 0.25 - 0.02 - 0.2 - 0.05, rel=1e-12)
+    assert info.index("__external") is None and info.index("rod") is None
+    batch = scene.in_collision_batch(probe, np.stack([at_top, above, translation(9, 9, 9)]))
+    assert batch == [{"elephant"}, set(), set()]
+    # A fitted Box as the query object: its own pose is composed with the transform. It holds the
+    # elephant and stays below the rod (whose lowest point is 0.33 above the elephant's top).
+    fitted = tightbvh.fit(elephant.vertices)
+    assert scene.in_collision_single(fitted, return_names=True)[1] == {"elephant"}
+    assert scene.in_collision_batch(fitted, np.stack([np.eye(4), translation(9, 9, 9)])) == [{"elephant"}, set()]
+    with pytest.raises(ValueError):
+        scene.in_collision_single(probe, np.full((4, 4), np.nan))
+
+
+class _Attributes:
+    """A stand-in for trimesh's PrimitiveAttributes: plain attributes."""
+
+    def __init__(self, **values):
+        self.__dict__.update(values)
+
+
+def _trimesh_like(kind, mesh, **primitive):
+    """A stand-in for trimesh.primitives.<kind> (trimesh is not in Debian 12): a class of that name in
+    the module trimesh.primitives with trimesh 4's `primitive` attributes, and tessellated vertices
+    and faces (here a decoy mesh far away, so that using them instead of the primitive shows)."""
+    cls = type(kind, (), {"__module__": "trimesh.primitives"})
+    obj = cls()
+    obj.primitive = _Attributes(**primitive)
+    obj.vertices, obj.faces = mesh.vertices + 100.0, mesh.faces
+    return obj
+
+
+def test_trimesh_primitives_stay_exact(elephant, elephant_model, unit_cube):
+    top = elephant.vertices[np.argmax(elephant.vertices[:, 2])]
+    place = translation(*(top + [0, 0, 0.04]))
+    tilted = pose_matrix(rotation([0.3, -0.2, 0.9], 0.7), top + [0, 0, 0.01])
+    pairs = [
+        (_trimesh_like("Sphere", unit_cube, radius=0.05, transform=place), Sphere(0.05), place),
+        (_trimesh_like("Sphere", unit_cube, radius=0.05, center=top + [0, 0, 0.04]), Sphere(0.05), place),
+        (_trimesh_like("Box", unit_cube, extents=np.array([0.1, 0.2, 0.05]), transform=tilted),
+         Box(0.1, 0.2, 0.05), tilted),
+        (_trimesh_like("Capsule", unit_cube, radius=0.02, height=0.3, transform=tilted), Capsule(0.02, 0.3), tilted),
+    ]
+    for primitive, shape, pose in pairs:
+        want = tightbvh.collide_shape(shape, pose, elephant_model, all_pairs=True)
+        assert want.hit
+        # The primitive's own transform places it; a transform given with it moves it further.
+        got = tightbvh.collide_shape(primitive, None, elephant_model, all_pairs=True)
+        assert got.triangles.tolist() == want.triangles.tolist()
+        far = tightbvh.distance_shape(primitive, translation(0, 0, 3), elephant_model)
+        assert far.distance == pytest.approx(
+            tightbvh.distance_shape(shape, translation(0, 0, 3) @ pose, elephant_model).distance, rel=1e-12)
+        scene = tightbvh.Scene()
+        scene.add_object("elephant", elephant_model)
+        scene.add_object("part", primitive)
+        assert scene.in_collision_internal()
+        with pytest.raises(ValueError, match="is a shape"):
+            scene.model("part")
+    # A scaled primitive is not a rigid shape: its mesh stands for it (here the decoy, far away).
+    scaled = np.diag([2.0, 2.0, 2.0, 1.0])
+    with pytest.raises(TypeError):
+        tightbvh.collide_shape(_trimesh_like("Sphere", unit_cube, radius=0.05, transform=scaled), None, elephant_model)
+    with pytest.raises(ValueError, match="radius"):
+        tightbvh.collide_shape(_trimesh_like("Sphere", unit_cube, radius=-1.0, transform=place), None, elephant_model)

@@ -252,6 +252,71 @@ TEST(SceneShapes, MixedSceneEqualsEveryPair) {
   EXPECT_GT(gjk_hits, 3);
 }
 
+// A shape as the query object of the single-object calls: the same objects, distances and
+// points as the pair queries against every object of a mixed scene.
+TEST(SceneShapes, ShapeAsTheQueryObject) {
+  std::mt19937_64 rng(31);
+  const std::vector<ModelPtr> models = scene_test::mixed_models();
+  const std::vector<Shape> shapes{Sphere(0.3), Capsule(0.15, 0.9), Box(0.5, 0.35, 0.7)};
+  int hits = 0, shape_hits = 0;
+  for (int round = 0; round < 6; ++round) {
+    Scene scene;
+    for (int k = 0; k < 10; ++k) {
+      if (k % 3 != 2)
+        (void)scene.add(models[static_cast<std::size_t>(k) % models.size()], random_pose(rng, 2.5));
+      else
+        (void)scene.add(shapes[static_cast<std::size_t>(k) % shapes.size()], random_pose(rng, 2.5));
+    }
+    const Shape& query = shapes[static_cast<std::size_t>(round) % shapes.size()];
+    std::vector<Pose> poses;
+    for (int i = 0; i < 4; ++i) poses.push_back(random_pose(rng, 2.5));
+    const auto batch = collide_batch(scene, query, poses, {}, 2);
+    ASSERT_EQ(batch.size(), poses.size());
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+      const Pose& pose = poses[i];
+      std::vector<ObjectId> want_hits, want_within;
+      std::optional<std::pair<double, ObjectId>> want_nearest;
+      for (const ObjectId id : scene.ids()) {
+        const SceneObject& o = scene.object(id);
+        double d = 0.0;
+        if (o.shape) {
+          d = distance(*o.shape, o.pose, query, pose).distance;
+        } else {
+          d = std::visit([&](const auto& s) { return distance(s, pose, *o.model, o.pose).distance; }, query);
+        }
+        if (d == 0.0) want_hits.push_back(id);
+        if (d < 0.2) want_within.push_back(id);
+        if (!want_nearest || d < want_nearest->first) want_nearest = std::pair(d, id);
+      }
+      std::vector<ObjectId> got_hits, got_batch, got_within;
+      for (const ObjectHit& h : collide(scene, query, pose, {.mode = QueryMode::all_pairs}, 2)) {
+        got_hits.push_back(h.id);
+        shape_hits += scene.object(h.id).shape.has_value();
+        for (const TrianglePair& p : h.result.pairs) EXPECT_EQ(p.b, 0u);  // the query shape is B
+      }
+      for (const ObjectHit& h : batch[i]) got_batch.push_back(h.id);
+      for (const ObjectDistance& d : distance_within(scene, query, pose, 0.2)) got_within.push_back(d.id);
+      EXPECT_EQ(got_hits, want_hits) << "round " << round << " pose " << i;
+      EXPECT_EQ(got_batch, want_hits) << "round " << round << " pose " << i;
+      EXPECT_EQ(got_within, want_within) << "round " << round << " pose " << i;
+      const auto nearest = distance(scene, query, pose);
+      ASSERT_TRUE(nearest.has_value());
+      EXPECT_EQ(nearest->id, want_nearest->second);
+      EXPECT_EQ(nearest->result.distance, want_nearest->first);
+      EXPECT_NEAR((nearest->result.point_a - nearest->result.point_b).norm(), nearest->result.distance, 1e-12);
+      hits += static_cast<int>(want_hits.size());
+    }
+  }
+  EXPECT_GT(hits, 5);
+  EXPECT_GT(shape_hits, 0);
+  Scene scene;
+  (void)scene.add(Shape(Sphere(1.0)), Pose{});
+  Pose bad;
+  bad.translation.x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW((void)collide(scene, Shape(Sphere(1.0)), bad), InputError);
+  EXPECT_THROW((void)distance(scene, Shape(Box(1.0, 1.0, 1.0)), bad), InputError);
+}
+
 TEST(SceneShapes, AddNeedsAModelOrAShape) {
   Scene scene;
   EXPECT_THROW((void)scene.add(SceneObject{}), InputError);

@@ -137,6 +137,20 @@ constexpr std::array<std::array<int, 3>, 12> kFaces{{{0, 2, 1}, {1, 2, 3}, {4, 5
   return pose.translation;
 }
 
+// A strict order of posed shapes (kind, then pose, then box), for the canonical order of a pair.
+[[nodiscard]] bool precedes(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb) {
+  if (a.index() != b.index()) return a.index() < b.index();
+  const auto key = [](const Shape& s, const Pose& p) {
+    std::array<double, 15> k{};
+    for (int i = 0; i < 3; ++i) k[i] = p.translation[i];
+    for (int i = 0; i < 9; ++i) k[3 + i] = p.rotation(i / 3, i % 3);
+    const Vec3 h = bounding_box(s).half_extents;
+    for (int i = 0; i < 3; ++i) k[12 + i] = h[i];
+    return k;
+  };
+  return key(a, pa) < key(b, pb);
+}
+
 // The scale of the pair's coordinates: the farthest reach of either bounding box from the origin.
 [[nodiscard]] double pair_scale(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb) {
   const Obb ba = bounding_box(a), bb = bounding_box(b);
@@ -169,13 +183,20 @@ ShapePairDistance distance(const Shape& a, const Pose& pa, const Shape& b, const
   if (needs_gjk(a) || needs_gjk(b)) {
     // GJK on the cores (Gilbert, Johnson & Keerthi 1988), to 1e-12 of the distance or the scale;
     // touching within kCylinderTolerance of the scale (shape.hpp).
-    const double scale = pair_scale(a, pa, b, pb);
-    const gjk::Result g = gjk::distance([&](const Vec3& dir) { return core_support(a, pa, dir); },
-                                        [&](const Vec3& dir) { return core_support(b, pb, dir); }, core_point(a, pa),
-                                        core_point(b, pb), 1e-12 * scale, 1e-12);
+    // Run in a canonical order of the two, so that swapping A and B gives the very same numbers
+    // (a scene may ask for either order).
+    const bool swap = precedes(b, pb, a, pa);
+    const Shape& first = swap ? b : a;
+    const Shape& second = swap ? a : b;
+    const Pose& pf = swap ? pb : pa;
+    const Pose& ps = swap ? pa : pb;
+    const double scale = pair_scale(first, pf, second, ps);
+    const gjk::Result g = gjk::distance([&](const Vec3& dir) { return core_support(first, pf, dir); },
+                                        [&](const Vec3& dir) { return core_support(second, ps, dir); },
+                                        core_point(first, pf), core_point(second, ps), 1e-12 * scale, 1e-12);
     d.distance = g.distance;
-    d.point_p = g.point_a;
-    d.point_q = g.point_b;
+    d.point_p = swap ? g.point_b : g.point_a;
+    d.point_q = swap ? g.point_a : g.point_b;
     ra = core_radius(a);
     rb = core_radius(b);
     tolerance = kCylinderTolerance * scale;

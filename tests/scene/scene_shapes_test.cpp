@@ -121,6 +121,7 @@ TEST(ShapePair, CylinderAndConvexAgreeWithTheShapeQueryOnTheBoxSurface) {
             !std::holds_alternative<Convex>(b))
           continue;
         const ShapePairDistance pair = distance(a, pa, b, pb);
+        EXPECT_EQ(distance(b, pb, a, pa).distance, pair.distance) << i << " " << shape_name(a);  // symmetric
         const ShapeDistanceResult mesh = std::visit([&](const auto& s) { return distance(s, pa, *surface, pb); }, a);
         if (mesh.distance > 1e-8) {
           EXPECT_NEAR(pair.distance, mesh.distance, 1e-10 * (1.0 + mesh.distance)) << i << " " << shape_name(a);
@@ -257,9 +258,10 @@ TEST(SceneShapes, MixedSceneEqualsEveryPair) {
 TEST(SceneShapes, ShapeAsTheQueryObject) {
   std::mt19937_64 rng(31);
   const std::vector<ModelPtr> models = scene_test::mixed_models();
-  const std::vector<Shape> shapes{Sphere(0.3), Capsule(0.15, 0.9), Box(0.5, 0.35, 0.7)};
+  const std::vector<Shape> shapes{Sphere(0.3), Capsule(0.15, 0.9), Box(0.5, 0.35, 0.7), Cylinder(0.25, 0.8),
+                                  round_hull(0.4, 7)};
   int hits = 0, shape_hits = 0;
-  for (int round = 0; round < 6; ++round) {
+  for (int round = 0; round < 10; ++round) {
     Scene scene;
     for (int k = 0; k < 10; ++k) {
       if (k % 3 != 2)

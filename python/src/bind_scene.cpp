@@ -204,7 +204,7 @@ class PyScene {
     try {
       // As trimesh: an object of the same name is replaced.
       if (const auto old = scene_.find(name)) remove(*old);
-      id = scene_.add(SceneObject{model, pose, group_bits, mask_bits, name});
+      id = scene_.add(SceneObject{model, pose, group_bits, mask_bits, name, std::nullopt});
     } catch (...) {
       if (key) release(*key);
       throw;
@@ -506,11 +506,12 @@ class PyScene {
       const std::string name = state_string(o[0], what + ": name");
       const Pose pose = to_pose(o[2], what + ": '" + name + "': transform");
       const bool is_model = py::isinstance<PyModel>(o[1]);
-      const bool is_shape = py::isinstance<Sphere>(o[1]) || py::isinstance<Box>(o[1]) || py::isinstance<Capsule>(o[1]);
+      const bool is_shape = py::isinstance<Sphere>(o[1]) || py::isinstance<Box>(o[1]) || py::isinstance<Capsule>(o[1]) ||
+                            py::isinstance<Cylinder>(o[1]) || py::isinstance<Convex>(o[1]);
       if (!is_model && !is_shape)
         throw py::type_error(what + ": '" + name + "': the model must be a Model or a tightbvh.shapes shape");
       if (result.scene_.find(name)) throw py::value_error(what + ": duplicate name '" + name + "'");
-      SceneObject added{is_model ? o[1].cast<const PyModel&>().model : nullptr, pose, 1, kAllGroups, name};
+      SceneObject added{is_model ? o[1].cast<const PyModel&>().model : nullptr, pose, 1, kAllGroups, name, std::nullopt};
       if (is_shape) added.shape = shape_at(o[1], pose)->shape;
       if (filtered) {
         added.group = static_cast<std::uint32_t>(state_count(o[3], what + ": '" + name + "': group", kAllGroups));
@@ -608,7 +609,7 @@ class PyScene {
     const Pose pose = to_pose(transform, "transform");
     if (const std::optional<ShapeAt> shape = shape_at(mesh, pose))
       return SceneObject{nullptr, shape->pose, 1, kAllGroups, kExternal, shape->shape};
-    return SceneObject{query_model(mesh), pose, 1, kAllGroups, kExternal};
+    return SceneObject{query_model(mesh), pose, 1, kAllGroups, kExternal, std::nullopt};
   }
 
   ModelPtr query_model(py::handle mesh) {

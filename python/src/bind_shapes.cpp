@@ -24,7 +24,7 @@ namespace {
 // The shape argument of collide_shape / distance_shape: TypeError for anything but a shape.
 [[nodiscard]] ShapeAt to_shape(py::handle object, py::handle pose_object) {
   if (auto s = shape_at(object, to_pose(pose_object, "shape_pose"))) return *s;
-  throw py::type_error("shape must be a tightbvh.shapes.Sphere, Box or Capsule, or a fitted tightbvh.Box, got " +
+  throw py::type_error("shape must be a tightbvh.shapes.Sphere, Box, Capsule, Cylinder or Convex, or a fitted tightbvh.Box, got " +
                        py::str(py::type::of(object).attr("__name__")).cast<std::string>());
 }
 
@@ -130,17 +130,18 @@ namespace {
 }
 
 // trimesh's primitives, kept exact rather than taken as their tessellated vertices and faces:
-// trimesh.primitives.Sphere, Box and Capsule, read from the attributes of their `primitive`
-// (radius, extents, height, transform; an older Sphere's center when it has no transform). Their
-// conventions are FCL's: each centered in its frame, Box's extents its full side lengths,
-// Capsule along z with height the distance of its caps' centers. A primitive whose transform is
+// trimesh.primitives.Sphere, Box, Capsule and Cylinder, read from the attributes of their
+// `primitive` (radius, extents, height, transform; an older Sphere's center when it has no
+// transform). Their conventions are FCL's: each centered in its frame, Box's extents its full side
+// lengths, Capsule along z with height the distance of its caps' centers, Cylinder along z with
+// height its full length. A primitive whose transform is
 // not rigid (scaled) is left to be its mesh, as trimesh itself would collide it.
 [[nodiscard]] std::optional<ShapeAt> trimesh_primitive(py::handle object, const Pose& pose) {
   const py::handle type = py::type::handle_of(object);
   if (!py::hasattr(type, "__module__") || py::str(type.attr("__module__")).cast<std::string>() != "trimesh.primitives")
     return std::nullopt;
   const std::string kind = py::str(type.attr("__name__"));
-  if (kind != "Sphere" && kind != "Box" && kind != "Capsule") return std::nullopt;
+  if (kind != "Sphere" && kind != "Box" && kind != "Capsule" && kind != "Cylinder") return std::nullopt;
   const py::object p = object.attr("primitive");
   Pose local = Pose::identity();
   if (py::hasattr(p, "transform")) {
@@ -156,6 +157,7 @@ namespace {
   const auto size = [&](const char* field) { return py::float_(p.attr(field)).cast<double>(); };
   if (kind == "Sphere") return ShapeAt{Sphere(size("radius")), placed};
   if (kind == "Capsule") return ShapeAt{Capsule(size("radius"), size("height")), placed};
+  if (kind == "Cylinder") return ShapeAt{Cylinder(size("radius"), size("height")), placed};
   return ShapeAt{Box(vec3_of(p.attr("extents"), "trimesh Box primitive.extents")), placed};
 }
 
@@ -166,6 +168,8 @@ std::optional<ShapeAt> shape_at(py::handle object, const Pose& pose) {
   if (py::isinstance<Sphere>(object)) return ShapeAt{object.cast<Sphere>(), pose};
   if (py::isinstance<Box>(object)) return ShapeAt{object.cast<Box>(), pose};
   if (py::isinstance<Capsule>(object)) return ShapeAt{object.cast<Capsule>(), pose};
+  if (py::isinstance<Cylinder>(object)) return ShapeAt{object.cast<Cylinder>(), pose};
+  if (py::isinstance<Convex>(object)) return ShapeAt{object.cast<Convex>(), pose};
   if (py::isinstance<Obb>(object)) {
     const Obb fitted = object.cast<Obb>();
     if (fitted.axes.determinant() < 0.0)
@@ -228,6 +232,52 @@ void bind_shapes(py::module_& m) {
         return "tightbvh.shapes.Capsule(radius=" + number(c.radius) + ", length=" + number(c.length) + ")";
       });
 
+  py::class_<Cylinder>(shapes, "Cylinder",
+                       "A solid cylinder along the local z axis, centered, from z = -length / 2 to length / 2 (FCL's "
+                       "Cylinder(radius, lz); trimesh's primitives.Cylinder(radius, height)).")
+      .def(py::init<double, double>(), py::arg("radius"), py::arg("length"),
+           "ValueError unless both are positive and finite.")
+      .def_readonly("radius", &Cylinder::radius)
+      .def_readonly("length", &Cylinder::length)
+      .def("__reduce_ex__", &reduce_ex)
+      .def(py::pickle([](const Cylinder& c) -> py::object { return py::make_tuple(c.radius, c.length); },
+                      [](const py::object& state) {
+                        const py::tuple f = state_tuple(state, 2, "Cylinder");
+                        return Cylinder(state_real(f[0], "Cylinder.__setstate__: radius"),
+                                        state_real(f[1], "Cylinder.__setstate__: length"));
+                      }))
+      .def("__repr__", [](const Cylinder& c) {
+        return "tightbvh.shapes.Cylinder(radius=" + number(c.radius) + ", length=" + number(c.length) + ")";
+      });
+
+  py::class_<Convex>(shapes, "Convex",
+                     "A solid convex polyhedron: the convex hull of points given in its frame (FCL's Convex). Only the "
+                     "hull is kept: vertices (V, 3) float64 and outward faces (F, 3) int64.")
+      .def(py::init([](py::handle points) { return Convex(to_points(points, "Convex: points")); }), py::arg("points"),
+           "The hull of (N, 3) points; ValueError for NaN or infinity, fewer than 4 points, or a flat hull.")
+      .def_property_readonly("vertices", [](const Convex& c) { return to_array(std::span<const Vec3>(c.vertices)); },
+                             "the hull's vertices (V, 3) float64 (a copy)")
+      .def_property_readonly(
+          "faces",
+          [](const Convex& c) {
+            py::array_t<std::int64_t> faces({static_cast<py::ssize_t>(c.faces.size()), py::ssize_t{3}});
+            auto f = faces.mutable_unchecked<2>();
+            for (std::size_t i = 0; i < c.faces.size(); ++i)
+              for (int k = 0; k < 3; ++k) f(static_cast<py::ssize_t>(i), k) = c.faces[i][static_cast<std::size_t>(k)];
+            return faces;
+          },
+          "the hull's faces (F, 3) int64, counter-clockwise seen from outside (a copy)")
+      .def("__reduce_ex__", &reduce_ex)
+      // Pickled as its hull's vertices: the hull of those is the same solid.
+      .def(py::pickle([](const Convex& c) -> py::object { return py::make_tuple(to_array(std::span<const Vec3>(c.vertices))); },
+                      [](const py::object& state) {
+                        return Convex(to_points(state_tuple(state, 1, "Convex")[0], "Convex.__setstate__: vertices"));
+                      }))
+      .def("__repr__", [](const Convex& c) {
+        return "tightbvh.shapes.Convex(<" + std::to_string(c.vertices.size()) + " vertices, " +
+               std::to_string(c.faces.size()) + " faces>)";
+      });
+
   py::class_<PyShapeResult>(m, "ShapeResult",
                             "collide_shape's answer: hit, triangles (K,) int64 (the mesh's triangles that touch the "
                             "shape: every one, sorted, with all_pairs; else the one found), stats")
@@ -281,8 +331,8 @@ void bind_shapes(py::module_& m) {
   m.def("collide_shape", &collide_shape_py, py::arg("shape"), py::arg("shape_pose"), py::arg("model"),
         py::arg("model_pose") = py::none(), py::arg("all_pairs") = false, py::arg("margin") = 0.0,
         "Which triangles of `model` (at model_pose, a 4x4 transform or None) touch `shape` (a tightbvh.shapes "
-        "Sphere, Box or Capsule at shape_pose, or a fitted tightbvh.Box, where it was fitted, moved by shape_pose): the first found, or with all_pairs=True every one; with margin > 0 those within "
-        "it. Touching is decided exactly for every shape. -> ShapeResult");
+        "Sphere, Box, Capsule, Cylinder or Convex at shape_pose, or a fitted tightbvh.Box, where it was fitted, moved by shape_pose): the first found, or with all_pairs=True every one; with margin > 0 those within "
+        "it. Touching is decided exactly for every shape but the cylinder (GJK, within 1e-9 of the scale). -> ShapeResult");
   m.def("distance_shape", &distance_shape_py, py::arg("shape"), py::arg("shape_pose"), py::arg("model"),
         py::arg("model_pose") = py::none(), py::arg("absolute_error") = 0.0, py::arg("relative_error") = 0.0,
         py::arg("upper_bound") = inf,

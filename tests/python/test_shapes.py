@@ -222,3 +222,49 @@ def test_trimesh_primitives_stay_exact(elephant, elephant_model, unit_cube):
         tightbvh.collide_shape(_trimesh_like("Sphere", unit_cube, radius=0.05, transform=scaled), None, elephant_model)
     with pytest.raises(ValueError, match="radius"):
         tightbvh.collide_shape(_trimesh_like("Sphere", unit_cube, radius=-1.0, transform=place), None, elephant_model)
+
+
+def test_cylinder_and_convex(elephant, elephant_model, unit_cube):
+    import pickle
+
+    from tightbvh.shapes import Convex, Cylinder
+
+    # An upright cylinder above the cube [-1, 1]^3: the gap is its bottom's height over the top face.
+    upright = Cylinder(0.3, 0.8)
+    for z, want in [(1.5, 0.1), (1.4, 0.0), (1.2, 0.0)]:
+        d = tightbvh.distance_shape(upright, translation(0.2, -0.1, z), tightbvh.Model(unit_cube))
+        assert d.distance == pytest.approx(want, abs=1e-9)
+        assert tightbvh.collide_shape(upright, translation(0.2, -0.1, z), tightbvh.Model(unit_cube)).hit == (want == 0)
+    # The hull of a box's corners is that box: the same triangles touch, at the same distance.
+    corners = np.array([[x, y, z] for x in (-0.05, 0.05) for y in (-0.1, 0.1) for z in (-0.025, 0.025)])
+    hull = Convex(corners)
+    assert hull.vertices.shape == (8, 3) and hull.faces.shape == (12, 3)
+    top = elephant.vertices[np.argmax(elephant.vertices[:, 2])]
+    for lift in (0.01, 0.2):
+        pose = pose_matrix(rotation([0.3, -0.2, 0.9], 0.7), top + [0, 0, lift])
+        a = tightbvh.collide_shape(hull, pose, elephant_model, all_pairs=True)
+        b = tightbvh.collide_shape(Box(0.1, 0.2, 0.05), pose, elephant_model, all_pairs=True)
+        assert a.triangles.tolist() == b.triangles.tolist()
+        assert tightbvh.distance_shape(hull, pose, elephant_model).distance == pytest.approx(
+            tightbvh.distance_shape(Box(0.1, 0.2, 0.05), pose, elephant_model).distance, rel=1e-12, abs=1e-15)
+    # In a scene, pickled with it; trimesh's Cylinder primitive is a Cylinder.
+    scene = tightbvh.Scene()
+    scene.add_object("elephant", elephant_model)
+    scene.add_object("can", upright, translation(*(top + [0, 0, 0.6])))
+    scene.add_object("rock", hull, translation(*(top + [0, 0, 0.01])))
+    names = scene.in_collision_internal(return_names=True)[1]
+    assert names == {("elephant", "rock")}
+    assert pickle.loads(pickle.dumps(scene)).in_collision_internal(return_names=True)[1] == names
+    again = pickle.loads(pickle.dumps(hull))
+    assert again.vertices.shape == hull.vertices.shape
+    can = _trimesh_like("Cylinder", unit_cube, radius=0.3, height=0.8, transform=translation(0.2, -0.1, 1.5))
+    assert tightbvh.distance_shape(can, None, tightbvh.Model(unit_cube)).distance == pytest.approx(0.1, abs=1e-9)
+    # Bad input names what is wrong.
+    with pytest.raises(ValueError):
+        Convex(corners[:3])
+    with pytest.raises(ValueError):
+        Convex(np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], dtype=float))  # flat
+    with pytest.raises(ValueError):
+        Convex(np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, np.nan]]))
+    with pytest.raises(ValueError, match="radius"):
+        Cylinder(-1.0, 1.0)

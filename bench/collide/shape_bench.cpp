@@ -27,6 +27,8 @@
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/convex.h>
+#include <fcl/geometry/shape/cylinder.h>
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/math/bv/OBBRSS.h>
 #include <fcl/narrowphase/collision.h>
@@ -147,6 +149,19 @@ tightbvh::Capsule make_shape(tightbvh::Capsule*, std::mt19937_64& rng, double d)
   const double length = std::uniform_real_distribution<double>(0.05, 0.1)(rng) * d;
   return tightbvh::Capsule(length / 4.0, length);
 }
+tightbvh::Cylinder make_shape(tightbvh::Cylinder*, std::mt19937_64& rng, double d) {
+  const double length = std::uniform_real_distribution<double>(0.05, 0.1)(rng) * d;
+  return tightbvh::Cylinder(length / 4.0, length);
+}
+// The hull of 24 points on an ellipsoid of semi-axes 2.5-5% of the diagonal (about 40 faces).
+tightbvh::Convex make_shape(tightbvh::Convex*, std::mt19937_64& rng, double d) {
+  std::uniform_real_distribution<double> axis(0.025 * d, 0.05 * d);
+  const Vec3 semi(axis(rng), axis(rng), axis(rng));
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::vector<Vec3> points;
+  for (int i = 0; i < 24; ++i) points.push_back(Vec3(n(rng), n(rng), n(rng)).normalized().cwiseProduct(semi));
+  return tightbvh::Convex(points);
+}
 std::shared_ptr<fcl::CollisionGeometryd> to_fcl(const tightbvh::Sphere& s) {
   return std::make_shared<fcl::Sphered>(s.radius);
 }
@@ -173,7 +188,38 @@ btTransform to_bullet(const Pose& pose) {
 }
 #endif
 
+std::shared_ptr<fcl::CollisionGeometryd> to_fcl(const tightbvh::Cylinder& s) {
+  return std::make_shared<fcl::Cylinderd>(s.radius, s.length);
+}
+std::shared_ptr<fcl::CollisionGeometryd> to_fcl(const tightbvh::Convex& s) {
+  auto vertices = std::make_shared<std::vector<fcl::Vector3d>>(s.vertices.begin(), s.vertices.end());
+  auto faces = std::make_shared<std::vector<int>>();  // FCL's layout: the count, then the indices
+  for (const auto& f : s.faces)
+    faces->insert(faces->end(), {3, static_cast<int>(f[0]), static_cast<int>(f[1]), static_cast<int>(f[2])});
+  return std::make_shared<fcl::Convexd>(vertices, static_cast<int>(s.faces.size()), faces);
+}
+#ifdef TIGHTBVH_SHAPE_BULLET
+std::shared_ptr<btCollisionShape> to_bullet(const tightbvh::Cylinder& s) {
+  auto cylinder = std::make_shared<btCylinderShapeZ>(btVector3(s.radius, s.radius, 0.5 * s.length));
+  cylinder->setMargin(0);  // keeps the outer size, as the box's
+  return cylinder;
+}
+std::shared_ptr<btCollisionShape> to_bullet(const tightbvh::Convex& s) {
+  auto hull = std::make_shared<btConvexHullShape>();
+  for (const Vec3& p : s.vertices) hull->addPoint(btVector3(p.x(), p.y(), p.z()), false);
+  hull->recalcLocalAabb();
+  hull->setMargin(0);
+  return hull;
+}
+#endif
+
 double reach(const tightbvh::Sphere& s) { return s.radius; }
+double reach(const tightbvh::Cylinder& s) { return std::hypot(s.radius, 0.5 * s.length); }
+double reach(const tightbvh::Convex& s) {
+  double r = 0.0;
+  for (const Vec3& v : s.vertices) r = std::max(r, v.norm());
+  return r;
+}
 double reach(const tightbvh::Box& s) { return 0.5 * s.size.norm(); }
 double reach(const tightbvh::Capsule& s) { return 0.5 * s.length + s.radius; }
 
@@ -428,6 +474,8 @@ void register_shape(const char* shape) {
   register_shape<tightbvh::Sphere>("sphere");
   register_shape<tightbvh::Box>("box");
   register_shape<tightbvh::Capsule>("capsule");
+  register_shape<tightbvh::Cylinder>("cylinder");
+  register_shape<tightbvh::Convex>("convex");
   return true;
 }();
 

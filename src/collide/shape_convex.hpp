@@ -17,6 +17,14 @@
   return sum;
 }
 
+// Whether the set whose extent along the triangle's normal n (any length; 0 for a degenerate
+// triangle) is [lo, hi] about the triangle's plane (n . (x - v0)) is at least `need` from it:
+// compared squared, gap^2 >= need^2 |n|^2, as PlacedCapsule::ruled_out.
+[[nodiscard]] inline bool plane_rules_out(const Vec3& n, double lo, double hi, double need) {
+  const double gap = interval_gap(lo, hi, 0.0, 0.0), n2 = n.squaredNorm();
+  return n2 > 0.0 && gap * gap >= need * need * n2;
+}
+
 // The triangle's corner of greatest d . x.
 [[nodiscard]] inline Vec3 triangle_support(const std::array<Vec3, 3>& v, const Vec3& d) {
   const double p0 = d.dot(v[0]), p1 = d.dot(v[1]), p2 = d.dot(v[2]);
@@ -31,12 +39,15 @@ struct PlacedCylinder {
   double r, hz;
   Obb box;
 
+  PlacedCapsule hull;  // the capsule of the same radius and axis, which holds the cylinder
+
   PlacedCylinder(const Cylinder& s, const Pose& rel)
       : to_local(rel.inverse()),
         to_mesh(rel),
         r(s.radius),
         hz(0.5 * s.length),
-        box{rel.translation, rel.rotation, Vec3(s.radius, s.radius, 0.5 * s.length)} {}
+        box{rel.translation, rel.rotation, Vec3(s.radius, s.radius, 0.5 * s.length)},
+        hull(Capsule(s.radius, s.length), rel) {}
 
   [[nodiscard]] std::array<Vec3, 3> mapped(const Vec3& a, const Vec3& b, const Vec3& c) const {
     return {map_point(to_local, a), map_point(to_local, b), map_point(to_local, c)};
@@ -81,8 +92,23 @@ struct PlacedCylinder {
     const double s = rho > r ? r / rho : 1.0;
     return Vec3(x.x() * s, x.y() * s, std::clamp(x.z(), -hz, hz));
   }
+  // The larger of the bound of the capsule that holds the cylinder (its segment bound less the
+  // radius: about as tight as the cylinder's box against the node's, for a third of its cost) and
+  // the gap along the line of the centers, w: |w| less the cylinder's reach along it (|w_z| hz +
+  // r |w_xy| in its frame) and the node's (sum_i e_i |a_i . w| / |w|), scaled by |w|, which is
+  // the tighter one for a squat cylinder seen across its caps' edges.
   [[nodiscard]] double lower_bound(const CompactBox& node, double allowance) const {
-    return box_bound(node, box, allowance);
+    const double by_capsule = hull.lower_bound(node, allowance);
+    const Vec3 w = node.center_d() - box.center;
+    const double w2 = w.squaredNorm();
+    if (!(w2 > 0.0)) return by_capsule;
+    const Vec3 local = to_local.rotation * w;
+    double reach = std::abs(local.z()) * hz + r * std::hypot(local.x(), local.y());
+    for (int i = 0; i < 3; ++i)
+      reach += static_cast<double>(node.half_extents[i]) * std::abs(node.axes.col(i).cast<double>().dot(w));
+    const double along = w2 - reach;
+    if (!(along > 0.0)) return by_capsule;
+    return std::max(by_capsule, along / std::sqrt(w2) * (1.0 - kCompactBoxSlack) - allowance);
   }
   // Nothing in the node is within `margin`: the shape's box against the node's, as the box's.
   [[nodiscard]] bool apart(const CompactBox& node, double allowance, double margin) const {
@@ -90,13 +116,18 @@ struct PlacedCylinder {
     return !obb_overlap(f.c, f.d, node.half_extents_d(), box.half_extents, allowance + margin);
   }
   // The gap between the triangle's bounding box and the cylinder's (cylinder frame) against the
-  // limit, as the box's ruled_out().
+  // limit, as the box's ruled_out(); then the cylinder's gap to the triangle's plane (its extent
+  // along the normal n is n . 0 -+ (|n_z| hz + r |n_xy|)).
   [[nodiscard]] bool ruled_out(const Vec3& a, const Vec3& b, const Vec3& c, double limit) const {
     if (!(limit < std::numeric_limits<double>::infinity())) return false;
+    const std::array<Vec3, 3> v = mapped(a, b, c);
     double scale = 0.0;
-    const double gap2 = boxes_gap2(mapped(a, b, c), Vec3(-r, -r, -hz), Vec3(r, r, hz), scale);
+    const double gap2 = boxes_gap2(v, Vec3(-r, -r, -hz), Vec3(r, r, hz), scale);
     const double need = needed_gap(limit, 0.0, scale);
-    return gap2 >= need * need;
+    if (gap2 >= need * need) return true;
+    const Vec3 n = (v[1] - v[0]).cross(v[2] - v[0]);
+    const double reach = std::abs(n.z()) * hz + r * std::hypot(n.x(), n.y()), at = -n.dot(v[0]);
+    return plane_rules_out(n, at - reach, at + reach, need);
   }
   [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
     const std::array<Vec3, 3> v = mapped(a, b, c);
@@ -129,14 +160,21 @@ struct PlacedConvex {
   Pose to_mesh;
   Vec3 lo, hi;  // the vertices' box, hull frame
   Obb box;
-  std::vector<tightbvh::detail::OrientPlane> planes;
-  std::vector<Vec3> face_lo, face_hi;
+  // The faces' planes and boxes, made at the first triangle test (a query that culls every node,
+  // the common case, never needs them).
+  mutable std::vector<tightbvh::detail::OrientPlane> planes;
+  mutable std::vector<Vec3> face_lo, face_hi;
   mutable std::vector<signed char> sides;  // scratch: per face, the corners' orientation signs
 
   PlacedConvex(const Convex& s, const Pose& rel) : hull(&s), to_local(rel.inverse()), to_mesh(rel) {
     lo = hi = s.vertices.front();
     for (const Vec3& p : s.vertices) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
     box = Obb{rel.apply(0.5 * (lo + hi)), rel.rotation, 0.5 * (hi - lo)};
+  }
+
+  void prepare_faces() const {
+    if (!planes.empty()) return;
+    const Convex& s = *hull;
     planes.reserve(s.faces.size());
     face_lo.reserve(s.faces.size());
     face_hi.reserve(s.faces.size());
@@ -173,6 +211,7 @@ struct PlacedConvex {
   // of a corner in the hull (0..2) or 3 + a touched face. A face whose plane has every corner
   // strictly inside cannot be touched, so only the others go to tri_tri_overlap. Fills `sides`.
   [[nodiscard]] int touching(const std::array<Vec3, 3>& v) const {
+    prepare_faces();
     const std::size_t nf = planes.size();
     bool inside[3] = {true, true, true};
     for (std::size_t f = 0; f < nf; ++f) {
@@ -242,20 +281,46 @@ struct PlacedConvex {
     const TriangleDistance best = disjoint_distance(v);
     return {best.distance, to_mesh.apply(best.point_p), to_mesh.apply(best.point_q)};
   }
+  // The larger of the hull's box against the node's (box_bound) and the gap along the line from
+  // the box's center to the node's, w: |w| less the hull's own reach along it (its vertices'
+  // greatest w . (p - center), a scan) and the node's (sum_i e_i |a_i . w| / |w|), scaled by |w|.
+  // A hull is smaller than its box (round hulls lose their corners), so the second is the tighter
+  // one where the two are far apart for their sizes; shrunk and less the allowance as box_bound.
   [[nodiscard]] double lower_bound(const CompactBox& node, double allowance) const {
-    return box_bound(node, box, allowance);
+    const double by_box = box_bound(node, box, allowance);
+    const Vec3 w = node.center_d() - box.center;
+    const double w2 = w.squaredNorm();
+    if (!(w2 > 0.0)) return by_box;
+    const Vec3 local = to_local.rotation * w, center = 0.5 * (lo + hi);
+    double reach = -std::numeric_limits<double>::infinity();
+    for (const Vec3& p : hull->vertices) reach = std::max(reach, local.dot(p - center));
+    for (int i = 0; i < 3; ++i)
+      reach += static_cast<double>(node.half_extents[i]) * std::abs(node.axes.col(i).cast<double>().dot(w));
+    const double along = w2 - reach;
+    if (!(along > 0.0)) return by_box;
+    return std::max(by_box, along / std::sqrt(w2) * (1.0 - kCompactBoxSlack) - allowance);
   }
   // Nothing in the node is within `margin`: the shape's box against the node's, as the box's.
   [[nodiscard]] bool apart(const CompactBox& node, double allowance, double margin) const {
     const query_detail::BoxFrame f = frame_of(node, box);
     return !obb_overlap(f.c, f.d, node.half_extents_d(), box.half_extents, allowance + margin);
   }
+  // The gap between the triangle's bounding box and the hull's, then the hull's gap to the
+  // triangle's plane (its extent along the normal: a scan of the vertices, far cheaper than GJK).
   [[nodiscard]] bool ruled_out(const Vec3& a, const Vec3& b, const Vec3& c, double limit) const {
     if (!(limit < std::numeric_limits<double>::infinity())) return false;
+    const std::array<Vec3, 3> v = mapped(a, b, c);
     double scale = 0.0;
-    const double gap2 = boxes_gap2(mapped(a, b, c), lo, hi, scale);
+    const double gap2 = boxes_gap2(v, lo, hi, scale);
     const double need = needed_gap(limit, 0.0, scale);
-    return gap2 >= need * need;
+    if (gap2 >= need * need) return true;
+    const Vec3 n = (v[1] - v[0]).cross(v[2] - v[0]);
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (const Vec3& p : hull->vertices) {
+      const double at = n.dot(p - v[0]);
+      low = std::min(low, at), high = std::max(high, at);
+    }
+    return plane_rules_out(n, low, high, need);
   }
   [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
     const std::array<Vec3, 3> v = mapped(a, b, c);

@@ -98,22 +98,25 @@ struct PlacedCylinder {
   // r |w_xy| in its frame) and the node's (sum_i e_i |a_i . w| / |w|), scaled by |w|, which is
   // the tighter one for a squat cylinder seen across its caps' edges.
   [[nodiscard]] double lower_bound(const CompactBox& node, double allowance) const {
-    const double by_capsule = hull.lower_bound(node, allowance);
+    return std::max(hull.lower_bound(node, allowance), along_bound(node, allowance));
+  }
+  // The gap along the line of the centers alone (0 where it does not separate).
+  [[nodiscard]] double along_bound(const CompactBox& node, double allowance) const {
     const Vec3 w = node.center_d() - box.center;
     const double w2 = w.squaredNorm();
-    if (!(w2 > 0.0)) return by_capsule;
+    if (!(w2 > 0.0)) return 0.0;
     const Vec3 local = to_local.rotation * w;
     double reach = std::abs(local.z()) * hz + r * std::hypot(local.x(), local.y());
     for (int i = 0; i < 3; ++i)
       reach += static_cast<double>(node.half_extents[i]) * std::abs(node.axes.col(i).cast<double>().dot(w));
     const double along = w2 - reach;
-    if (!(along > 0.0)) return by_capsule;
-    return std::max(by_capsule, along / std::sqrt(w2) * (1.0 - kCompactBoxSlack) - allowance);
+    if (!(along > 0.0)) return 0.0;
+    return std::max(0.0, along / std::sqrt(w2) * (1.0 - kCompactBoxSlack) - allowance);
   }
-  // Nothing in the node is within `margin`: the shape's box against the node's, as the box's.
+  // Nothing in the node is within `margin`: its lower bound says so, as the sphere's and the
+  // capsule's (both of its parts are cheap; tighter than the cylinder's box against the node's).
   [[nodiscard]] bool apart(const CompactBox& node, double allowance, double margin) const {
-    const query_detail::BoxFrame f = frame_of(node, box);
-    return !obb_overlap(f.c, f.d, node.half_extents_d(), box.half_extents, allowance + margin);
+    return lower_bound(node, allowance) > margin;
   }
   // The gap between the triangle's bounding box and the cylinder's (cylinder frame) against the
   // limit, as the box's ruled_out(); then the cylinder's gap to the triangle's plane (its extent
@@ -124,7 +127,11 @@ struct PlacedCylinder {
     double scale = 0.0;
     const double gap2 = boxes_gap2(v, Vec3(-r, -r, -hz), Vec3(r, r, hz), scale);
     const double need = needed_gap(limit, 0.0, scale);
-    if (gap2 >= need * need) return true;
+    return gap2 >= need * need || plane_apart(v, need);
+  }
+  // The cylinder's gap to the triangle's plane is at least `need` (its extent along the normal n
+  // is n . 0 -+ (|n_z| hz + r |n_xy|)).
+  [[nodiscard]] bool plane_apart(const std::array<Vec3, 3>& v, double need) const {
     const Vec3 n = (v[1] - v[0]).cross(v[2] - v[0]);
     const double reach = std::abs(n.z()) * hz + r * std::hypot(n.x(), n.y()), at = -n.dot(v[0]);
     return plane_rules_out(n, at - reach, at + reach, need);
@@ -134,7 +141,8 @@ struct PlacedCylinder {
     double scale = 0.0;
     const double gap2 = boxes_gap2(v, Vec3(-r, -r, -hz), Vec3(r, r, hz), scale);
     const double need = needed_gap(margin, 0.0, scale) + kCylinderTolerance * scale;
-    if (gap2 > need * need) return false;  // the boxes' gap bounds the distance from below
+    // The boxes' gap, then the plane's, bound the distance from below.
+    if (gap2 > need * need || plane_apart(v, need)) return false;
     // measure(a, b, c).distance <= margin, settled early where GJK's bounds decide it with room to
     // spare (relative 1e-9, far above rounding): measure()'s distance, or its touching test, is
     // at least GJK's lower bound and at most its current |v| (which only decreases). Between
@@ -287,23 +295,28 @@ struct PlacedConvex {
   // A hull is smaller than its box (round hulls lose their corners), so the second is the tighter
   // one where the two are far apart for their sizes; shrunk and less the allowance as box_bound.
   [[nodiscard]] double lower_bound(const CompactBox& node, double allowance) const {
-    const double by_box = box_bound(node, box, allowance);
+    return std::max(box_bound(node, box, allowance), along_bound(node, allowance));
+  }
+  // The gap along the line of the centers alone (0 where it does not separate).
+  [[nodiscard]] double along_bound(const CompactBox& node, double allowance) const {
     const Vec3 w = node.center_d() - box.center;
     const double w2 = w.squaredNorm();
-    if (!(w2 > 0.0)) return by_box;
+    if (!(w2 > 0.0)) return 0.0;
     const Vec3 local = to_local.rotation * w, center = 0.5 * (lo + hi);
     double reach = -std::numeric_limits<double>::infinity();
     for (const Vec3& p : hull->vertices) reach = std::max(reach, local.dot(p - center));
     for (int i = 0; i < 3; ++i)
       reach += static_cast<double>(node.half_extents[i]) * std::abs(node.axes.col(i).cast<double>().dot(w));
     const double along = w2 - reach;
-    if (!(along > 0.0)) return by_box;
-    return std::max(by_box, along / std::sqrt(w2) * (1.0 - kCompactBoxSlack) - allowance);
+    if (!(along > 0.0)) return 0.0;
+    return std::max(0.0, along / std::sqrt(w2) * (1.0 - kCompactBoxSlack) - allowance);
   }
-  // Nothing in the node is within `margin`: the shape's box against the node's, as the box's.
+  // Nothing in the node is within `margin`: the shape's box against the node's (obb_overlap, as
+  // the box's), then, for a node it lets through, the gap along the line of the centers.
   [[nodiscard]] bool apart(const CompactBox& node, double allowance, double margin) const {
     const query_detail::BoxFrame f = frame_of(node, box);
-    return !obb_overlap(f.c, f.d, node.half_extents_d(), box.half_extents, allowance + margin);
+    return !obb_overlap(f.c, f.d, node.half_extents_d(), box.half_extents, allowance + margin) ||
+           along_bound(node, allowance) > margin;
   }
   // The gap between the triangle's bounding box and the hull's, then the hull's gap to the
   // triangle's plane (its extent along the normal: a scan of the vertices, far cheaper than GJK).
@@ -313,7 +326,11 @@ struct PlacedConvex {
     double scale = 0.0;
     const double gap2 = boxes_gap2(v, lo, hi, scale);
     const double need = needed_gap(limit, 0.0, scale);
-    if (gap2 >= need * need) return true;
+    return gap2 >= need * need || plane_apart(v, need);
+  }
+  // The hull's gap to the triangle's plane is at least `need` (its extent along the normal: a scan
+  // of the vertices).
+  [[nodiscard]] bool plane_apart(const std::array<Vec3, 3>& v, double need) const {
     const Vec3 n = (v[1] - v[0]).cross(v[2] - v[0]);
     double low = std::numeric_limits<double>::infinity(), high = -low;
     for (const Vec3& p : hull->vertices) {
@@ -327,7 +344,8 @@ struct PlacedConvex {
     double scale = 0.0;
     const double gap2 = boxes_gap2(v, lo, hi, scale);
     const double need = needed_gap(margin, 0.0, scale);
-    if (gap2 > need * need) return false;  // the boxes' gap bounds the distance from below
+    // The boxes' gap, then the plane's, bound the distance from below.
+    if (gap2 > need * need || plane_apart(v, need)) return false;
     if (touching(v) >= 0) return true;
     if (margin == 0.0) return false;
     return measure(a, b, c).distance <= margin;  // measure()'s arithmetic

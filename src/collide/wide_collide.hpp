@@ -4,18 +4,21 @@
 // same pairs (tests/collide/wide_collide_test.cpp) and measured against it
 // (bench/collide/collide_bench.cpp, BM_WideCollide).
 //
-// The descent visits (box of A, node of B) pairs: one box of A, hoisted once (M = A^T R0 and B's
-// node reference point in A's box frame, `hoist`), is tested by the float kernel against the
-// four children of a node of B. For each child of B that it keeps:
+// The descent visits (hoisted box, node) pairs in both orientations: a box of one tree, hoisted
+// once (M = X^T R and the node's reference point in the box's frame, `hoist`; R = R0 for a box of
+// A, R0^T for a box of B: wide_frame_swapped), is tested by the float kernel against the four
+// children of a node of the other tree. For each child that it keeps:
 //   - both leaves: the leaf pair's triangle pairs, with tri_tri_overlap (all_pairs: the four-lane
 //     batch of tri_batch.hpp where the CPU has AVX2, which decides as tri_tri_overlap does);
-//   - B's child internal and at least as large (volume) as A's box, or A's box a leaf: descend B.
-//     The same hoisted box is tested against the child's node; only B's reference point moves,
-//     updated in float as tn' = tn + M c (c the child's stored float offset), with its error bound
-//     carried along and added to the kernel's allowance (the derivation is in wide_collide.cpp);
-//   - otherwise descend A: each child box of A's box is hoisted afresh (its node's reference point
-//     and B's, in double: wide_pair) and tested against the same node of B, restricted to the
-//     lanes that chose this branch. Two boxes of A go through the kernel at once (wide_overlap2).
+//   - the child internal and at least as large (volume) as the hoisted box, or the hoisted box a
+//     leaf: the same hoisted box descends into the child's node; only the node's reference point
+//     moves, updated in float as tn' = tn + M c (c the child's stored float offset), with its error
+//     bound carried along and added to the kernel's allowance (the derivation is in wide_collide.cpp);
+//   - otherwise the hoisted box opens: the child's box is hoisted in the other orientation (the
+//     node pair's reference points in double: wide_pair) and tested against the four children of
+//     the hoisted box's node: the swapped kernel.
+// So every kernel call tests four wanted lanes (all children of one node against one box); two
+// calls go through the kernel at once (wide_overlap2, eight AVX2 lanes).
 #include "tightbvh/collide.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/pose.hpp"
@@ -48,6 +51,11 @@ void move_b(DescentBox& x, const WideNode& n, int lane, const Vec3& ref_c, const
 // B's ref in the frame of the child node of x (whose ref is ref_c), for that node's boxes.
 void move_a(const DescentBox& x, const Vec3& ref_c, float (&t)[3], double& t_err);
 
+/// What the descent did beyond QueryStats, for the benchmark.
+struct WideCounters {
+  std::uint64_t kernel_calls = 0;  // four-lane kernel calls (wide_overlap2 counts two)
+};
+
 /// Mesh A's triangles touching mesh B's, B placed in A's frame by `rel` (x_A = R x_B + t), over the
 /// wide trees `wa` of `ta` and `wb` of `tb` (build_wide; the trees give the leaves' triangle order).
 /// `mode` all_pairs: result.pairs sorted and unique, the same set as collide()'s with margin 0;
@@ -55,6 +63,7 @@ void move_a(const DescentBox& x, const Vec3& ref_c, float (&t)[3], double& t_err
 /// pairs (one box of A, one child of B: a lane of the kernel) tested, triangle_tests triangle
 /// pairs tested. Throws InputError for a pose that is not finite or not a rotation.
 [[nodiscard]] QueryResult collide_wide(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb,
-                                       const WideTree& wb, const Mesh& mb, const Pose& rel, QueryMode mode);
+                                       const WideTree& wb, const Mesh& mb, const Pose& rel, QueryMode mode,
+                                       WideCounters* counters = nullptr);
 
 }  // namespace tightbvh::query_detail

@@ -219,10 +219,7 @@ struct Descent {
     const WideNode& n = tree(1 - S).nodes[static_cast<std::size_t>(nl)];
     const std::int32_t h_child = x.node->child[x.lane];
     const std::uint32_t h_count = x.node->count[x.lane];
-    Call calls[kWideLanes];
-    int count = 0;
-    Vec3 h_ref;  // ref of x's child node, when x opens
-    bool h_ref_known = false;
+    unsigned moves = 0, swaps = 0;  // lanes of n that x descends, lanes whose box is hoisted
     for (unsigned m = kept; m != 0; m &= m - 1) {
       const int lane = std::countr_zero(m);
       if (n.count[lane] > 0 && h_count > 0) {
@@ -231,22 +228,40 @@ struct Descent {
         if (stop) return true;
         continue;
       }
-      Call& c = calls[count++];
       const float volume = n.half[0][lane] * n.half[1][lane] * n.half[2][lane];
-      if (n.count[lane] == 0 && (h_count > 0 || volume >= x.volume)) {
-        c.node = n.child[lane];
-        c.ref = child_ref(ref_l, n, lane);
-        c.box = x;
-        move_b(c.box, n, lane, c.ref, frame(S).r0);
-        c.swap = false;
-      } else {
-        if (!h_ref_known) {
-          h_ref = child_ref(x.ref_a, *x.node, x.lane);
-          h_ref_known = true;
-        }
+      if (n.count[lane] == 0 && (h_count > 0 || volume >= x.volume))
+        moves |= 1u << lane;
+      else
+        swaps |= 1u << lane;
+    }
+    // Both kinds of calls go through the kernel together, so that more of them pair up in eight
+    // lanes (running x's own descent first for first_hit was not faster: query-core.md).
+    return step<S>(x, n, ref_l, moves, swaps);
+  }
+
+  // visit's kernel calls: x against the child nodes of n's lanes `moves`, the boxes of n's lanes
+  // `swaps` against x's child node; then the nodes kept, nearest first for first_hit.
+  template <int S>
+  bool step(const DescentBox& x, const WideNode& n, const Vec3& ref_l, unsigned moves, unsigned swaps) {
+    Call calls[kWideLanes];
+    int count = 0;
+    for (unsigned m = moves; m != 0; m &= m - 1) {
+      const int lane = std::countr_zero(m);
+      Call& c = calls[count++];
+      c.node = n.child[lane];
+      c.ref = child_ref(ref_l, n, lane);
+      c.box = x;
+      move_b(c.box, n, lane, c.ref, frame(S).r0);
+      c.swap = false;
+    }
+    if (swaps != 0) {
+      const Vec3 h_ref = child_ref(x.ref_a, *x.node, x.lane);
+      for (unsigned m = swaps; m != 0; m &= m - 1) {
+        const int lane = std::countr_zero(m);
+        Call& c = calls[count++];
         const WidePair p = wide_pair(frame(1 - S), ref_l, h_ref);
         c.box = fresh(frame(1 - S), n, lane, ref_l, p.t, static_cast<double>(p.t_err));
-        c.node = h_child;
+        c.node = x.node->child[x.lane];
         c.ref = h_ref;
         c.swap = true;
       }

@@ -24,10 +24,8 @@ float up(double x) { return static_cast<float>(x * (1.0 + 0x1p-20) + 1e-30); }
 
 // Box `lane` of A's node `n` (ref ref_a) against B's node at ref_b, hoisted from the double refs.
 DescentBox fresh(const WideFrame& f, const WideNode& n, int lane, const Vec3& ref_a, const float (&t)[3], double t_err) {
+  const WidePair p{{t[0], t[1], t[2]}, up(t_err)};
   const WideBox a = lane_box(n, lane);
-  // In the swapped frame, its pose's error (wide_frame_swapped) counts as error of t.
-  const double t_err_all = (t_err + swap_error(f, ref_a, a)) * (1.0 + 0x1p-50);
-  const WidePair p{{t[0], t[1], t[2]}, up(t_err_all)};
   DescentBox x;
   x.h = hoist(f, p, a);
   // hoist's tn is within 4.8 u |d|_1 + 1.75 t_err of exact (d = t - ca as hoist rounds it: the
@@ -41,7 +39,7 @@ DescentBox fresh(const WideFrame& f, const WideNode& n, int lane, const Vec3& re
   x.lane = lane;
   x.ref_a = ref_a;
   for (int k = 0; k < 3; ++k) x.t[k] = t[k];
-  x.t_err = t_err_all;
+  x.t_err = t_err;
   return x;
 }
 
@@ -102,12 +100,10 @@ namespace {
 // first_hit visits a step's boxes nearest first (as traverse.hpp orders a split's child pairs):
 // `order` gets 0..count-1 sorted by |tn|_1, the distance from A's box center to B's node ref (a
 // node's ref is its box's center) in A's box frame.
-template <class Call>
-void nearest_first(const Call* calls, int count, int (&order)[kWideLanes]) {
+void nearest_first(const DescentBox* boxes, int count, int (&order)[kWideLanes]) {
   float key[kWideLanes];
   for (int k = 0; k < count; ++k) {
-    const WideHoisted& h = calls[k].box.h;
-    key[k] = std::abs(h.tn[0]) + std::abs(h.tn[1]) + std::abs(h.tn[2]);
+    key[k] = std::abs(boxes[k].h.tn[0]) + std::abs(boxes[k].h.tn[1]) + std::abs(boxes[k].h.tn[2]);
     int i = k;
     for (; i > 0 && key[order[i - 1]] > key[k]; --i) order[i] = order[i - 1];
     order[i] = k;
@@ -129,8 +125,7 @@ struct Descent {
   const WideTree& wb;
   const Mesh& mb;
   const Pose& rel;
-  WideFrame f;   // A's boxes hoisted, B's nodes in the lanes
-  WideFrame fs;  // the swapped frame: B's boxes hoisted, A's nodes in the lanes
+  WideFrame f;
   bool avx2;
   QueryResult& result;
   TrianglePairBatch batch;
@@ -173,133 +168,94 @@ struct Descent {
     return false;
   }
 
-  // A kernel call queued by visit: box `box` (of the hoisted side's tree) against node `node` of
-  // the other tree, whose ref is `ref`; `swap`: the call hoists the other side's box (a step of
-  // the other orientation).
-  struct Call {
-    DescentBox box;
-    std::int32_t node;
-    Vec3 ref;
-    bool swap;
-  };
-
-  const WideTree& tree(int side) const { return side == 0 ? wa : wb; }
-  const WideFrame& frame(int side) const { return side == 0 ? f : fs; }
-
-  // The kernel on calls[0..count): masks[k] the lanes of calls[k].node kept. Two calls at once.
-  // side: the orientation of the visit that queued them (a swapped call's node is side's).
-  void run_calls(const Call* calls, int count, unsigned* masks, int side) {
-    for (int k = 0; k < count; k += 2) {
-      const WideNode& n0 = tree(calls[k].swap ? side : 1 - side).nodes[static_cast<std::size_t>(calls[k].node)];
-      box_tests += static_cast<unsigned>(std::popcount(occupied(n0)));
-      ++kernel_calls;
-      if (k + 1 < count) {
-        const WideNode& n1 =
-            tree(calls[k + 1].swap ? side : 1 - side).nodes[static_cast<std::size_t>(calls[k + 1].node)];
-        box_tests += static_cast<unsigned>(std::popcount(occupied(n1)));
-        ++kernel_calls;
-        const unsigned both = wide_overlap2(calls[k].box.h, n0, calls[k + 1].box.h, n1, avx2);
-        masks[k] = both & 0xFu;
-        masks[k + 1] = both >> 4;
-      } else {
-        masks[k] = wide_overlap(calls[k].box.h, n0);
-      }
-    }
-  }
-
-  // Box x of side S's tree (hoisted in frame(S)) against node nl of the other tree (ref ref_l),
-  // whose lanes `kept` the kernel kept. For each kept child of nl: both leaves, the triangle
-  // pairs; the child internal and at least as large as x's box (volume), or x's box a leaf: x
-  // descends it (move_b, its ref moved in float), a node-against-box call of four wanted lanes;
-  // otherwise x's box opens: the child's box is hoisted in the other frame (fresh, its ref pair
-  // from wide_pair in double) and tested against the four children of x's box: the swapped
-  // kernel, four wanted lanes too. True: stop.
-  template <int S>
-  bool visit(const DescentBox& x, std::int32_t nl, const Vec3& ref_l, unsigned kept) {
-    const WideNode& n = tree(1 - S).nodes[static_cast<std::size_t>(nl)];
-    const std::int32_t h_child = x.node->child[x.lane];
-    const std::uint32_t h_count = x.node->count[x.lane];
-    unsigned moves = 0, swaps = 0;  // lanes of n that x descends, lanes whose box is hoisted
+  // Box x of A against B's node nb (ref ref_b), whose lanes `kept` the kernel kept. True: stop.
+  bool visit(const DescentBox& x, std::int32_t nb, const Vec3& ref_b, unsigned kept) {
+    const WideNode& n = wb.nodes[static_cast<std::size_t>(nb)];
+    const std::int32_t a_child = x.node->child[x.lane];
+    const std::uint32_t a_count = x.node->count[x.lane];
+    unsigned down_a = 0;  // lanes of n met by the children of x
+    DescentBox moved[kWideLanes];
+    std::int32_t next[kWideLanes];
+    Vec3 next_ref[kWideLanes];
+    int moves = 0;
     for (unsigned m = kept; m != 0; m &= m - 1) {
       const int lane = std::countr_zero(m);
-      if (n.count[lane] > 0 && h_count > 0) {
-        const bool stop = S == 0 ? leaves(h_child, h_count, n.child[lane], n.count[lane])
-                                 : leaves(n.child[lane], n.count[lane], h_child, h_count);
-        if (stop) return true;
+      if (n.count[lane] > 0) {  // a leaf of B
+        if (a_count > 0) {
+          if (leaves(a_child, a_count, n.child[lane], n.count[lane])) return true;
+        } else {
+          down_a |= 1u << lane;
+        }
         continue;
       }
       const float volume = n.half[0][lane] * n.half[1][lane] * n.half[2][lane];
-      if (n.count[lane] == 0 && (h_count > 0 || volume >= x.volume))
-        moves |= 1u << lane;
-      else
-        swaps |= 1u << lane;
-    }
-    // Both kinds of calls go through the kernel together, so that more of them pair up in eight
-    // lanes (running x's own descent first for first_hit was not faster: query-core.md).
-    return step<S>(x, n, ref_l, moves, swaps);
-  }
-
-  // visit's kernel calls: x against the child nodes of n's lanes `moves`, the boxes of n's lanes
-  // `swaps` against x's child node; then the nodes kept, nearest first for first_hit.
-  template <int S>
-  bool step(const DescentBox& x, const WideNode& n, const Vec3& ref_l, unsigned moves, unsigned swaps) {
-    Call calls[kWideLanes];
-    int count = 0;
-    for (unsigned m = moves; m != 0; m &= m - 1) {
-      const int lane = std::countr_zero(m);
-      Call& c = calls[count++];
-      c.node = n.child[lane];
-      c.ref = child_ref(ref_l, n, lane);
-      c.box = x;
-      move_b(c.box, n, lane, c.ref, frame(S).r0);
-      c.swap = false;
-    }
-    if (swaps != 0) {
-      const Vec3 h_ref = child_ref(x.ref_a, *x.node, x.lane);
-      for (unsigned m = swaps; m != 0; m &= m - 1) {
-        const int lane = std::countr_zero(m);
-        Call& c = calls[count++];
-        const WidePair p = wide_pair(frame(1 - S), ref_l, h_ref);
-        c.box = fresh(frame(1 - S), n, lane, ref_l, p.t, static_cast<double>(p.t_err));
-        c.node = x.node->child[x.lane];
-        c.ref = h_ref;
-        c.swap = true;
+      if (a_count > 0 || volume >= x.volume) {
+        next[moves] = n.child[lane];
+        next_ref[moves] = child_ref(ref_b, n, lane);
+        moved[moves] = x;
+        move_b(moved[moves], n, lane, next_ref[moves], f.r0);
+        ++moves;
+      } else {
+        down_a |= 1u << lane;
       }
     }
     unsigned masks[kWideLanes];
-    run_calls(calls, count, masks, S);
+    for (int k = 0; k < moves; k += 2) {
+      const WideNode& b0 = wb.nodes[static_cast<std::size_t>(next[k])];
+      box_tests += static_cast<unsigned>(std::popcount(occupied(b0)));
+      kernel_calls += k + 1 < moves ? 2 : 1;
+      if (k + 1 < moves) {
+        const WideNode& b1 = wb.nodes[static_cast<std::size_t>(next[k + 1])];
+        box_tests += static_cast<unsigned>(std::popcount(occupied(b1)));
+        const unsigned both = wide_overlap2(moved[k].h, b0, moved[k + 1].h, b1, avx2);
+        masks[k] = both & 0xFu;
+        masks[k + 1] = both >> 4;
+      } else {
+        masks[k] = wide_overlap(moved[k].h, b0);
+      }
+    }
     int order[kWideLanes] = {0, 1, 2, 3};
-    if constexpr (FirstHit) nearest_first(calls, count, order);
-    for (int i = 0; i < count; ++i) {
+    if constexpr (FirstHit) nearest_first(moved, moves, order);
+    for (int i = 0; i < moves; ++i) {
       const int k = order[i];
-      if (masks[k] == 0) continue;
-      const bool stop = calls[k].swap ? visit<1 - S>(calls[k].box, calls[k].node, calls[k].ref, masks[k])
-                                      : visit<S>(calls[k].box, calls[k].node, calls[k].ref, masks[k]);
-      if (stop) return true;
+      if (masks[k] != 0 && visit(moved[k], next[k], next_ref[k], masks[k])) return true;
+    }
+    if (down_a != 0) {
+      const Vec3 ref_c = child_ref(x.ref_a, *x.node, x.lane);
+      float t[3];
+      double t_err;
+      move_a(x, ref_c, t, t_err);
+      return descend_a(a_child, ref_c, t, t_err, nb, ref_b, down_a);
     }
     return false;
   }
 
-  // The roots: each box of A's root hoisted against the children of B's root.
-  bool roots() {
-    const WideNode& n = wa.nodes[0];
-    const WidePair root = wide_pair(f, wa.root_ref, wb.root_ref);
-    Call calls[kWideLanes];
+  // Each box of A's node na (ref ref_a) against the lanes `allowed` of B's node nb (ref ref_b).
+  // t, t_err: B's ref in na's frame (DescentBox::t).
+  bool descend_a(std::int32_t na, const Vec3& ref_a, const float (&t)[3], double t_err, std::int32_t nb,
+                 const Vec3& ref_b, unsigned allowed) {
+    const WideNode& n = wa.nodes[static_cast<std::size_t>(na)];
+    const WideNode& b = wb.nodes[static_cast<std::size_t>(nb)];
+    DescentBox boxes[kWideLanes];
     int count = 0;
-    for (unsigned m = occupied(n); m != 0; m &= m - 1) {
-      Call& c = calls[count++];
-      c.box = fresh(f, n, std::countr_zero(m), wa.root_ref, root.t, static_cast<double>(root.t_err));
-      c.node = 0;
-      c.ref = wb.root_ref;
-      c.swap = false;
-    }
+    for (unsigned m = occupied(n); m != 0; m &= m - 1) boxes[count++] = fresh(f, n, std::countr_zero(m), ref_a, t, t_err);
+    box_tests += static_cast<std::uint64_t>(count) * static_cast<unsigned>(std::popcount(allowed));
     unsigned masks[kWideLanes];
-    run_calls(calls, count, masks, 0);
+    for (int k = 0; k < count; k += 2) {
+      kernel_calls += k + 1 < count ? 2 : 1;
+      if (k + 1 < count) {
+        const unsigned both = wide_overlap2(boxes[k].h, b, boxes[k + 1].h, b, avx2);
+        masks[k] = both & allowed;
+        masks[k + 1] = (both >> 4) & allowed;
+      } else {
+        masks[k] = wide_overlap(boxes[k].h, b) & allowed;
+      }
+    }
     int order[kWideLanes] = {0, 1, 2, 3};
-    if constexpr (FirstHit) nearest_first(calls, count, order);
+    if constexpr (FirstHit) nearest_first(boxes, count, order);
     for (int i = 0; i < count; ++i) {
       const int k = order[i];
-      if (masks[k] != 0 && visit<0>(calls[k].box, 0, wb.root_ref, masks[k])) return true;
+      if (masks[k] != 0 && visit(boxes[k], nb, ref_b, masks[k])) return true;
     }
     return false;
   }
@@ -308,20 +264,11 @@ struct Descent {
 template <bool FirstHit>
 void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, const WideTree& wb, const Mesh& mb,
          const Pose& rel, QueryResult& result, WideCounters* counters) {
-  Descent<FirstHit> d{ta,
-                      wa,
-                      ma,
-                      tb,
-                      wb,
-                      mb,
-                      rel,
-                      wide_frame(rel, wa.eta, wb.eta, 0.0),
-                      wide_frame_swapped(rel, wa.eta, wb.eta, 0.0),
-                      avx2_bounds_available(),
-                      result,
-                      {},
-                      {}};
-  (void)d.roots();
+  Descent<FirstHit> d{ta, wa, ma, tb, wb, mb, rel, wide_frame(rel, wa.eta, wb.eta, 0.0), avx2_bounds_available(),
+                      result, {}, {}};
+  // The roots are not tested: the children of A's root against those of B's.
+  const WidePair root = wide_pair(d.f, wa.root_ref, wb.root_ref);
+  (void)d.descend_a(0, wa.root_ref, root.t, static_cast<double>(root.t_err), 0, wb.root_ref, occupied(wb.nodes[0]));
   if constexpr (!FirstHit) d.batch.flush(result);
   result.stats.box_tests += d.box_tests;
   result.stats.triangle_tests += d.triangle_tests;

@@ -4,21 +4,18 @@
 // same pairs (tests/collide/wide_collide_test.cpp) and measured against it
 // (bench/collide/collide_bench.cpp, BM_WideCollide).
 //
-// The descent visits (hoisted box, node) pairs in both orientations: a box of one tree, hoisted
-// once (M = X^T R and the node's reference point in the box's frame, `hoist`; R = R0 for a box of
-// A, R0^T for a box of B: wide_frame_swapped), is tested by the float kernel against the four
-// children of a node of the other tree. For each child that it keeps:
+// The descent visits (box of A, node of B) pairs: one box of A, hoisted once (M = A^T R0 and B's
+// node reference point in A's box frame, `hoist`), is tested by the float kernel against the
+// four children of a node of B. For each child of B that it keeps:
 //   - both leaves: the leaf pair's triangle pairs, with tri_tri_overlap (all_pairs: the four-lane
 //     batch of tri_batch.hpp where the CPU has AVX2, which decides as tri_tri_overlap does);
-//   - the child internal and at least as large (volume) as the hoisted box, or the hoisted box a
-//     leaf: the same hoisted box descends into the child's node; only the node's reference point
-//     moves, updated in float as tn' = tn + M c (c the child's stored float offset), with its error
-//     bound carried along and added to the kernel's allowance (the derivation is in wide_collide.cpp);
-//   - otherwise the hoisted box opens: the child's box is hoisted in the other orientation (the
-//     node pair's reference points in double: wide_pair) and tested against the four children of
-//     the hoisted box's node: the swapped kernel.
-// So every kernel call tests four wanted lanes (all children of one node against one box); two
-// calls go through the kernel at once (wide_overlap2, eight AVX2 lanes).
+//   - B's child internal and at least as large (volume) as A's box, or A's box a leaf: descend B.
+//     The same hoisted box is tested against the child's node; only B's reference point moves,
+//     updated in float as tn' = tn + M c (c the child's stored float offset), with its error bound
+//     carried along and added to the kernel's allowance (the derivation is in wide_collide.cpp);
+//   - otherwise descend A: each child box of A's box is hoisted afresh (its node's reference point
+//     and B's, in double: wide_pair) and tested against the same node of B, restricted to the
+//     lanes that chose this branch. Two boxes of A go through the kernel at once (wide_overlap2).
 #include "tightbvh/collide.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/pose.hpp"

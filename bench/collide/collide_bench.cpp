@@ -683,10 +683,11 @@ void BM_WideCollide(benchmark::State& state) {
   const QueryOptions options{.mode = mode};
   QueryWorkspace workspace;
   QueryStats total;
+  query_detail::WideCounters counters;
   std::size_t queries = 0, hits = 0, pairs = 0;
   for (auto _ : state) {
     for (const Pose& pose : sc.poses[scenario]) {
-      const QueryResult r = wide ? query_detail::collide_wide(*ta, wa, sc.a, *tb, wb, sc.b, pose, mode)
+      const QueryResult r = wide ? query_detail::collide_wide(*ta, wa, sc.a, *tb, wb, sc.b, pose, mode, &counters)
                                  : collide(*ta, sc.a, Pose::identity(), *tb, sc.b, pose, options, workspace);
       total.box_tests += r.stats.box_tests;
       total.triangle_tests += r.stats.triangle_tests;
@@ -698,6 +699,8 @@ void BM_WideCollide(benchmark::State& state) {
   const double q = static_cast<double>(queries);
   state.counters["box_tests"] = static_cast<double>(total.box_tests) / q;
   state.counters["tri_tests"] = static_cast<double>(total.triangle_tests) / q;
+  // Four-lane kernel calls per query (collide_wide only; box_tests / kernel_calls = lanes per call).
+  state.counters["kernel_calls"] = static_cast<double>(counters.kernel_calls) / q;
   state.counters["hit_rate"] = static_cast<double>(hits) / q;
   state.counters["pairs"] = static_cast<double>(pairs) / q;
   state.counters["queries_per_s"] = benchmark::Counter(q, benchmark::Counter::kIsRate);

@@ -130,7 +130,7 @@ struct Descent {
   QueryResult& result;
   TrianglePairBatch batch;
   MappedChunk mapped;
-  std::uint64_t box_tests = 0, triangle_tests = 0;
+  std::uint64_t box_tests = 0, triangle_tests = 0, kernel_calls = 0;
 
   // The triangle pairs of A's leaf (ca, na) and B's leaf (cb, nb) (child references and counts),
   // in collide()'s order: B's triangles mapped into A's frame a chunk at a time. True: stop.
@@ -203,6 +203,7 @@ struct Descent {
     for (int k = 0; k < moves; k += 2) {
       const WideNode& b0 = wb.nodes[static_cast<std::size_t>(next[k])];
       box_tests += static_cast<unsigned>(std::popcount(occupied(b0)));
+      kernel_calls += k + 1 < moves ? 2 : 1;
       if (k + 1 < moves) {
         const WideNode& b1 = wb.nodes[static_cast<std::size_t>(next[k + 1])];
         box_tests += static_cast<unsigned>(std::popcount(occupied(b1)));
@@ -241,6 +242,7 @@ struct Descent {
     box_tests += static_cast<std::uint64_t>(count) * static_cast<unsigned>(std::popcount(allowed));
     unsigned masks[kWideLanes];
     for (int k = 0; k < count; k += 2) {
+      kernel_calls += k + 1 < count ? 2 : 1;
       if (k + 1 < count) {
         const unsigned both = wide_overlap2(boxes[k].h, b, boxes[k + 1].h, b, avx2);
         masks[k] = both & allowed;
@@ -261,7 +263,7 @@ struct Descent {
 
 template <bool FirstHit>
 void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, const WideTree& wb, const Mesh& mb,
-         const Pose& rel, QueryResult& result) {
+         const Pose& rel, QueryResult& result, WideCounters* counters) {
   Descent<FirstHit> d{ta, wa, ma, tb, wb, mb, rel, wide_frame(rel, wa.eta, wb.eta, 0.0), avx2_bounds_available(),
                       result, {}, {}};
   // The roots are not tested: the children of A's root against those of B's.
@@ -270,20 +272,21 @@ void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, con
   if constexpr (!FirstHit) d.batch.flush(result);
   result.stats.box_tests += d.box_tests;
   result.stats.triangle_tests += d.triangle_tests;
+  if (counters != nullptr) counters->kernel_calls += d.kernel_calls;
 }
 
 }  // namespace
 
 QueryResult collide_wide(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, const WideTree& wb,
-                         const Mesh& mb, const Pose& rel, QueryMode mode) {
+                         const Mesh& mb, const Pose& rel, QueryMode mode, WideCounters* counters) {
   QueryResult result;
   if (wa.nodes.empty() || wb.nodes.empty()) return result;
   check_tree_fits_mesh("collide_wide", ta, ma, "A");
   check_tree_fits_mesh("collide_wide", tb, mb, "B");
   if (mode == QueryMode::first_hit) {
-    run<true>(ta, wa, ma, tb, wb, mb, rel, result);
+    run<true>(ta, wa, ma, tb, wb, mb, rel, result, counters);
   } else {
-    run<false>(ta, wa, ma, tb, wb, mb, rel, result);
+    run<false>(ta, wa, ma, tb, wb, mb, rel, result, counters);
     std::sort(result.pairs.begin(), result.pairs.end());
     result.pairs.erase(std::unique(result.pairs.begin(), result.pairs.end()), result.pairs.end());
   }

@@ -48,6 +48,11 @@ void move_b(DescentBox& x, const WideNode& n, int lane, const Vec3& ref_c, const
 // B's ref in the frame of the child node of x (whose ref is ref_c), for that node's boxes.
 void move_a(const DescentBox& x, const Vec3& ref_c, float (&t)[3], double& t_err);
 
+/// What the descent did beyond QueryStats, for the benchmark.
+struct WideCounters {
+  std::uint64_t kernel_calls = 0;  // four-lane kernel calls (wide_overlap2 counts two)
+};
+
 /// Mesh A's triangles touching mesh B's, B placed in A's frame by `rel` (x_A = R x_B + t), over the
 /// wide trees `wa` of `ta` and `wb` of `tb` (build_wide; the trees give the leaves' triangle order).
 /// `mode` all_pairs: result.pairs sorted and unique, the same set as collide()'s with margin 0;
@@ -55,6 +60,7 @@ void move_a(const DescentBox& x, const Vec3& ref_c, float (&t)[3], double& t_err
 /// pairs (one box of A, one child of B: a lane of the kernel) tested, triangle_tests triangle
 /// pairs tested. Throws InputError for a pose that is not finite or not a rotation.
 [[nodiscard]] QueryResult collide_wide(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb,
-                                       const WideTree& wb, const Mesh& mb, const Pose& rel, QueryMode mode);
+                                       const WideTree& wb, const Mesh& mb, const Pose& rel, QueryMode mode,
+                                       WideCounters* counters = nullptr);
 
 }  // namespace tightbvh::query_detail

@@ -225,6 +225,36 @@ WideFrame wide_frame(const Pose& rel, double eta_a, double eta_b, double margin)
   return f;
 }
 
+// The swapped kernel: a box b of B (hoisted) against the children of a node of A (lanes), in B's
+// mesh frame. It is the kernel of wide_overlap with the frame P' = (R0^T, -R0^T t0): every step of
+// the allowance's derivation (wide_nodes.hpp) names A for the hoisted side and B for the lanes, and
+// holds with the roles exchanged, because it uses of the frame only that its float rotation is the
+// rounding of a double matrix whose |M^T M - I| enters eta (wide_frame computes that for R0^T:
+// |R0 R0^T - I|, and eta_a, eta_b exchanged), and of the boxes only their stored widening. What
+// is left is that P' is not the exact inverse of x -> R0 x + t0:
+//   - Boxes of A and B that share a point q (in A's frame) are, mapped by P', P'(A) and P'(R0 B +
+//     t0) = (I + E0) B with E0 = R0^T R0 - I; the point p = P'(q) of (I + E0) B is (I + E0) s for
+//     s in B, so s = p - E0 s, |E0 s|_inf <= 3 e0 |s|_inf (e0 = max |E0_ik|, rounded up). So B and
+//     P'(A) shifted by -E0 s share s: the kernel must keep a pair whose true relative position
+//     is off by |E0 s|_inf <= 3 e0 |s|_inf in each component, the same as an error of that size in
+//     t (B's node ref in the hoisted box's node frame, which enters the allowance as t_err), with
+//     |s|_inf <= |ref + c|_inf + 1.01 sum e_k (s in the hoisted box of B: center ref + c, axes of
+//     components <= 1 + eta): swap_rel = 3.01 e0 (the 0.01 covers the bound's double rounding).
+//   - wide_pair treats t0' = -R0^T t0 as exact; as computed in double it is within
+//     gamma_3 sum |R0_jk t0_j| <= 2^-50 1.01 |t0|_1 of -R0^T t0: swap_abs.
+// Both are far below the allowance's own terms for a double rotation (e0 ~ 1e-16).
+WideFrame wide_frame_swapped(const Pose& rel, double eta_a, double eta_b, double margin) {
+  if (!rel.rotation.allFinite() || !rel.translation.allFinite()) throw InputError("wide nodes: pose is not finite");
+  const Mat3 rt = rel.rotation.transpose();
+  const Vec3 t0 = -(rt * rel.translation);
+  WideFrame f = wide_frame(Pose{rt, t0}, eta_b, eta_a, margin);
+  const Mat3 e0 = rt * rel.rotation - Mat3::Identity();
+  const double e0_max = e0.cwiseAbs().maxCoeff() + 1e-15;
+  f.swap_rel = 3.01 * e0_max;
+  f.swap_abs = 0x1p-50 * 1.01 * rel.translation.cwiseAbs().sum();
+  return f;
+}
+
 WidePair wide_pair(const WideFrame& f, const Vec3& ref_a, const Vec3& ref_b) {
   WidePair p;
   double err = 0.0;

@@ -26,6 +26,7 @@
 //
 // The kernel itself is a template over the lane type (wide_kernel.hpp): four SSE lanes (or four
 // plain floats) here, eight AVX2 lanes in wide_avx2.cpp (wide_overlap2, two boxes of A at once).
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -99,10 +100,31 @@ struct WideFrame {
   Vec3 t0_d;     // t0 (double)
   float kappa;   // the allowance's relative factor (the allowance section): 8 eta + 24 u
   float margin;  // the query's box margin, rounded up
+  // The swapped frame only (wide_frame_swapped; 0 otherwise): what its pose misses of the exact
+  // inverse, as an error of B's ref in the hoisted box's frame: swap_rel |p|_inf + swap_abs for a
+  // shared point p of the hoisted box (fresh, wide_collide.cpp, adds it to t_err).
+  double swap_rel = 0.0;
+  double swap_abs = 0.0;
 };
 
 /// `rel` maps B's mesh frame into A's; `eta_a`, `eta_b` the trees' eta; `margin` >= 0.
 [[nodiscard]] WideFrame wide_frame(const Pose& rel, double eta_a, double eta_b, double margin);
+
+/// The frame with the roles swapped (B's boxes hoisted, A's nodes in the lanes): the pose
+/// x_B = R0^T x_A - R0^T t0 and eta over the same axes. Its pose is not R0's exact inverse when
+/// R0 is orthonormal only to |R0^T R0 - I|; swap_rel and swap_abs bound what that moves (the
+/// derivation is in wide_nodes.cpp).
+[[nodiscard]] WideFrame wide_frame_swapped(const Pose& rel, double eta_a, double eta_b, double margin);
+
+/// What the swapped frame's pose adds to t_err for the hoisted box `a` of a node whose ref is
+/// `ref` (wide_frame_swapped): swap_rel |s|_inf + swap_abs, with |s|_inf <= |ref|_inf + |c|_inf +
+/// 1.01 sum e for any point s of the box; 0 in a forward frame.
+[[nodiscard]] inline double swap_error(const WideFrame& f, const Vec3& ref, const WideBox& a) {
+  double s_inf = 0.0;
+  for (int k = 0; k < 3; ++k) s_inf = std::max(s_inf, std::abs(ref[k]) + std::abs(static_cast<double>(a.center[k])));
+  s_inf += 1.01 * (static_cast<double>(a.half[0]) + a.half[1] + a.half[2]);
+  return (f.swap_rel * s_inf + f.swap_abs) * (1.0 + 0x1p-50);
+}
 
 /// One node pair: B's node ref in A's node frame, rounded to float, and a bound on that rounding.
 struct WidePair {

@@ -87,6 +87,32 @@ unsigned kernel(const Obb& a, const Vec3& ref_a, const Obb& b, const Vec3& ref_b
   return wide_overlap<kTier>(hoist(f, wide_pair(f, ref_a, ref_b), wa), node);
 }
 
+// The swapped kernel (B's box hoisted in wide_frame_swapped, A's box in lane 0 of a node whose
+// ref is `ref_a`), as the descent runs it: the pair's t_err grown by swap_error.
+template <WideTier kTier = WideTier::full>
+unsigned kernel_swapped(const Obb& a, const Vec3& ref_a, const Obb& b, const Vec3& ref_b, const Pose& rel) {
+  double eta_a = 0.0, eta_b = 0.0;
+  const WideBox wb = widen_box(b, ref_b, eta_b);
+  WideNode node{};
+  for (int lane = 0; lane < kWideLanes; ++lane) {
+    for (int r = 0; r < 9; ++r) node.axes[r][lane] = r % 4 == 0 ? 1.0f : 0.0f;
+    for (int k = 0; k < 3; ++k) {
+      node.center[k][lane] = 0.0f;
+      node.half[k][lane] = kEmptyHalf;
+    }
+  }
+  const WideBox wa = widen_box(a, ref_a, eta_a);
+  for (int r = 0; r < 9; ++r) node.axes[r][0] = wa.axes[r];
+  for (int k = 0; k < 3; ++k) {
+    node.center[k][0] = wa.center[k];
+    node.half[k][0] = wa.half[k];
+  }
+  const WideFrame fs = wide_frame_swapped(rel, eta_a, eta_b, 0.0);
+  WidePair p = wide_pair(fs, ref_b, ref_a);
+  p.t_err = static_cast<float>((static_cast<double>(p.t_err) + swap_error(fs, ref_b, wb)) * (1.0 + 0x1p-20));
+  return wide_overlap<kTier>(hoist(fs, p, wb), node);
+}
+
 // Random pairs of boxes around a shared point at each scale and offset; returns the number of
 // pairs either tier culled (must be 0).
 TEST(WideNodes, NeverCullsBoxesThatShareAPoint) {
@@ -115,9 +141,12 @@ TEST(WideNodes, NeverCullsBoxesThatShareAPoint) {
         ++pairs;
         const bool full = (kernel(a, ref_a, b, ref_b, rel) & 1u) != 0;
         const bool faces = (kernel<WideTier::faces>(a, ref_a, b, ref_b, rel) & 1u) != 0;
-        if (!full || !faces) {
+        const bool swapped = (kernel_swapped(a, ref_a, b, ref_b, rel) & 1u) != 0;
+        const bool swapped_faces = (kernel_swapped<WideTier::faces>(a, ref_a, b, ref_b, rel) & 1u) != 0;
+        if (!full || !faces || !swapped || !swapped_faces) {
           ++culled;
-          ADD_FAILURE() << "culled a touching pair: scale " << scale << " offset " << offset << " kind " << kind;
+          ADD_FAILURE() << "culled a touching pair: scale " << scale << " offset " << offset << " kind " << kind
+                        << (full && faces ? " (swapped kernel)" : "");
           if (culled > 5) return;
         }
       }
@@ -130,7 +159,7 @@ TEST(WideNodes, NeverCullsBoxesThatShareAPoint) {
 TEST(WideNodes, CullsBoxesSeparatedByASmallGap) {
   std::mt19937_64 rng(380);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  int separated = 0, culled = 0;
+  int separated = 0, culled = 0, culled_swapped = 0;
   for (const double scale : {1e-3, 1.0, 1e4})
     for (const double offset : {0.0, 1e6})
       for (int n = 0; n < 800; ++n) {
@@ -144,10 +173,12 @@ TEST(WideNodes, CullsBoxesSeparatedByASmallGap) {
         const Obb b = to_b_frame(b_world, rel);
         ++separated;
         culled += (kernel(a, a.center, b, b.center, rel) & 1u) == 0;
+        culled_swapped += (kernel_swapped(a, a.center, b, b.center, rel) & 1u) == 0;
       }
   std::printf("[ wide     ] separated by > 1e-4 of the size: %d pairs, %d culled\n", separated, culled);
   ASSERT_GT(separated, 400);
   EXPECT_GE(culled, separated * 99 / 100) << culled << " of " << separated;
+  EXPECT_GE(culled_swapped, separated * 99 / 100) << culled_swapped << " of " << separated << " (swapped kernel)";
 }
 
 TEST(WideNodes, EmptyLanesAndOtherLanes) {
@@ -221,6 +252,7 @@ TEST(WideNodes, KeepsEveryRealNodePairTheDoubleTestKeeps) {
   std::mt19937_64 rng(3800);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   std::size_t tested = 0, kept_double = 0, kept_float = 0, missed = 0, lanes_differ = 0;
+  std::size_t kept_swapped = 0, missed_swapped = 0;
   const bool avx2 = avx2_bounds_available();
   struct Item {
     std::int32_t na;
@@ -245,6 +277,7 @@ TEST(WideNodes, KeepsEveryRealNodePairTheDoubleTestKeeps) {
       const Mat3 rot = random_rotation(rng);
       const Pose rel{rot, box_a.center - rot * box_b.center + 0.3 * size * Vec3(unit(rng), unit(rng), unit(rng))};
       const WideFrame f = wide_frame(rel, wa.eta, wb.eta, 0.0);
+      const WideFrame fs = wide_frame_swapped(rel, wa.eta, wb.eta, 0.0);
       std::vector<Item> stack;
       for (int lane = 0; lane < kWideLanes; ++lane)
         if (!is_empty_lane(wa.nodes[0], lane)) stack.push_back({0, lane, 0, wa.root_ref, wb.root_ref});
@@ -269,6 +302,14 @@ TEST(WideNodes, KeepsEveryRealNodePairTheDoubleTestKeeps) {
           const Obb b_in_a{rel.apply(b.center), rel.rotation * b.axes, b.half_extents};
           const bool d = obb_overlap(a_box, b_in_a);
           const bool fl = (kept >> j & 1u) != 0;
+          // The swapped kernel: B's box j hoisted against A's node, read at A's lane.
+          WidePair ps = wide_pair(fs, it.ref_b, it.ref_a);
+          const WideBox bj = lane_box(nb, j);
+          ps.t_err = static_cast<float>((static_cast<double>(ps.t_err) + swap_error(fs, it.ref_b, bj)) * (1.0 + 0x1p-20));
+          const bool sw = (wide_overlap(hoist(fs, ps, bj), na) >> it.lane & 1u) != 0;
+          kept_swapped += sw;
+          if (d && !sw && ++missed_swapped <= 5)
+            ADD_FAILURE() << "pose " << pose << ": a pair the double test keeps was culled by the swapped kernel";
           ++tested;
           kept_double += d;
           kept_float += fl;
@@ -289,9 +330,11 @@ TEST(WideNodes, KeepsEveryRealNodePairTheDoubleTestKeeps) {
     }
   }
   EXPECT_EQ(missed, 0u);
+  EXPECT_EQ(missed_swapped, 0u);
   EXPECT_EQ(lanes_differ, 0u) << (avx2 ? "AVX2" : "two four-lane calls");
   EXPECT_GT(kept_double, 1000u);
-  std::printf("[ wide     ] %zu real box pairs: double keeps %zu, float keeps %zu\n", tested, kept_double, kept_float);
+  std::printf("[ wide     ] %zu real box pairs: double keeps %zu, float keeps %zu, swapped float keeps %zu\n", tested,
+              kept_double, kept_float, kept_swapped);
 }
 
 }  // namespace

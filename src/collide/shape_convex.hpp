@@ -17,12 +17,19 @@
   return sum;
 }
 
-// Whether the set whose extent along the triangle's normal n (any length; 0 for a degenerate
-// triangle) is [lo, hi] about the triangle's plane (n . (x - v0)) is at least `need` from it:
-// compared squared, gap^2 >= need^2 |n|^2, as PlacedCapsule::ruled_out.
-[[nodiscard]] inline bool plane_rules_out(const Vec3& n, double lo, double hi, double need) {
-  const double gap = interval_gap(lo, hi, 0.0, 0.0), n2 = n.squaredNorm();
-  return n2 > 0.0 && gap * gap >= need * need * n2;
+// The gap along w, from the shape's center to the node's (mesh frame), given the shape's reach
+// along it scaled by |w| (its greatest w . (x - center)): |w| less both reaches (the node's
+// sum_i e_i |a_i . w| / |w|), shrunk for the float axes and less the allowance as box_bound();
+// 0 where it does not separate.
+[[nodiscard]] inline double centers_gap(const CompactBox& node, const Vec3& w, double shape_reach, double allowance) {
+  const double w2 = w.squaredNorm();
+  if (!(w2 > 0.0)) return 0.0;
+  double reach = shape_reach;
+  for (int i = 0; i < 3; ++i)
+    reach += static_cast<double>(node.half_extents[i]) * std::abs(node.axes.col(i).cast<double>().dot(w));
+  const double along = w2 - reach;
+  if (!(along > 0.0)) return 0.0;
+  return std::max(0.0, along / std::sqrt(w2) * (1.0 - kCompactBoxSlack) - allowance);
 }
 
 // The triangle's corner of greatest d . x.
@@ -103,15 +110,8 @@ struct PlacedCylinder {
   // The gap along the line of the centers alone (0 where it does not separate).
   [[nodiscard]] double along_bound(const CompactBox& node, double allowance) const {
     const Vec3 w = node.center_d() - box.center;
-    const double w2 = w.squaredNorm();
-    if (!(w2 > 0.0)) return 0.0;
     const Vec3 local = to_local.rotation * w;
-    double reach = std::abs(local.z()) * hz + r * std::hypot(local.x(), local.y());
-    for (int i = 0; i < 3; ++i)
-      reach += static_cast<double>(node.half_extents[i]) * std::abs(node.axes.col(i).cast<double>().dot(w));
-    const double along = w2 - reach;
-    if (!(along > 0.0)) return 0.0;
-    return std::max(0.0, along / std::sqrt(w2) * (1.0 - kCompactBoxSlack) - allowance);
+    return centers_gap(node, w, std::abs(local.z()) * hz + r * std::hypot(local.x(), local.y()), allowance);
   }
   // Nothing in the node is within `margin`: its lower bound says so, as the sphere's and the
   // capsule's (both of its parts are cheap; tighter than the cylinder's box against the node's).
@@ -300,16 +300,10 @@ struct PlacedConvex {
   // The gap along the line of the centers alone (0 where it does not separate).
   [[nodiscard]] double along_bound(const CompactBox& node, double allowance) const {
     const Vec3 w = node.center_d() - box.center;
-    const double w2 = w.squaredNorm();
-    if (!(w2 > 0.0)) return 0.0;
     const Vec3 local = to_local.rotation * w, center = 0.5 * (lo + hi);
     double reach = -std::numeric_limits<double>::infinity();
     for (const Vec3& p : hull->vertices) reach = std::max(reach, local.dot(p - center));
-    for (int i = 0; i < 3; ++i)
-      reach += static_cast<double>(node.half_extents[i]) * std::abs(node.axes.col(i).cast<double>().dot(w));
-    const double along = w2 - reach;
-    if (!(along > 0.0)) return 0.0;
-    return std::max(0.0, along / std::sqrt(w2) * (1.0 - kCompactBoxSlack) - allowance);
+    return centers_gap(node, w, reach, allowance);
   }
   // Nothing in the node is within `margin`: the shape's box against the node's (obb_overlap, as
   // the box's), then, for a node it lets through, the gap along the line of the centers.

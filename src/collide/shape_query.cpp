@@ -65,6 +65,14 @@ constexpr double kPlaneSideSlack = 1e-12;
   return std::max({0.0, lo_a - hi_b, lo_b - hi_a});
 }
 
+// Whether the set whose extent along the triangle's normal n (any length; 0 for a degenerate
+// triangle: no plane to bound by) is [lo, hi] about the triangle's plane (n . (x - v0)) is at
+// least `need` from it: compared squared, gap^2 >= need^2 |n|^2, without a root or a division.
+[[nodiscard]] bool plane_rules_out(const Vec3& n, double lo, double hi, double need) {
+  const double gap = interval_gap(lo, hi, 0.0, 0.0), n2 = n.squaredNorm();
+  return n2 > 0.0 && gap * gap >= need * need * n2;
+}
+
 [[nodiscard]] std::string number(double x) {
   std::ostringstream s;
   s << x;
@@ -268,9 +276,7 @@ struct PlacedCapsule {
     if (boxes >= need * need) return true;
     const Vec3 n = (b - a).cross(c - a);
     const double dp = n.dot(p - a), dq = n.dot(q - a);
-    const double gap = interval_gap(std::min(dp, dq), std::max(dp, dq), 0.0, 0.0);
-    const double n2 = n.squaredNorm();  // 0 for a degenerate triangle: no plane to bound by
-    return n2 > 0.0 && gap * gap >= need * need * n2;
+    return plane_rules_out(n, std::min(dp, dq), std::max(dp, dq), need);
   }
   // As the sphere's: the segment–box bound against the margin.
   [[nodiscard]] bool apart(const CompactBox& node, double allowance, double margin) const {
@@ -487,9 +493,7 @@ struct PlacedBox {
     if (boxes >= need * need) return true;
     const Vec3 n = (v[1] - v[0]).cross(v[2] - v[0]);
     const double reach = n.cwiseAbs().dot(h), at = -n.dot(v[0]);
-    const double gap = interval_gap(at - reach, at + reach, 0.0, 0.0);
-    const double n2 = n.squaredNorm();  // 0 for a degenerate triangle: no plane to bound by
-    return n2 > 0.0 && gap * gap >= need * need * n2;
+    return plane_rules_out(n, at - reach, at + reach, need);
   }
   [[nodiscard]] bool within(const Vec3& a, const Vec3& b, const Vec3& c, double margin) const {
     const std::array<Vec3, 3> v = mapped(a, b, c);

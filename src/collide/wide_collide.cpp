@@ -22,25 +22,38 @@ float up(double x) { return static_cast<float>(x * (1.0 + 0x1p-20) + 1e-30); }
 
 }  // namespace
 
-// Box `lane` of A's node `n` (ref ref_a) against B's node at ref_b, hoisted from the double refs.
-DescentBox fresh(const WideFrame& f, const WideNode& n, int lane, const Vec3& ref_a, const float (&t)[3], double t_err) {
-  const WidePair p{{t[0], t[1], t[2]}, up(t_err)};
-  const WideBox a = lane_box(n, lane);
-  DescentBox x;
-  x.h = hoist(f, p, a);
-  // hoist's tn is within 4.8 u |d|_1 + 1.75 t_err of exact (d = t - ca as hoist rounds it: the
-  // allowance section of wide_nodes.hpp), and its base adds 10 u |d|_1 + 4 t_err, over 1.8 times that.
-  double d1 = 0.0;
-  for (int k = 0; k < 3; ++k) d1 += std::abs(static_cast<double>(p.t[k] - a.center[k]));
-  x.err = (4.8 * kU * d1 + 1.75 * static_cast<double>(p.t_err)) * (1.0 + 0x1p-50);
-  x.core = f.kappa * (a.half[0] + a.half[1] + a.half[2] + f.margin) + f.margin;
-  x.volume = a.half[0] * a.half[1] * a.half[2];
-  x.node = &n;
-  x.lane = lane;
-  x.ref_a = ref_a;
-  for (int k = 0; k < 3; ++k) x.t[k] = t[k];
-  x.t_err = t_err;
-  return x;
+// The four boxes of A's node n hoisted at once, each lane as hoist (wide_nodes.hpp) computes it for
+// the box in that lane, operation for operation: M = A^T fl(R0), d = t - ca, tn = A^T d, and the
+// base allowance kappa (sum ea + margin) + 10 u |d|_1 + 4 t_err + margin. tn is within
+// 4.8 u |d|_1 + 1.75 t_err of exact (the allowance section of wide_nodes.hpp); that bound is
+// evaluated in float, a few sums and products of nonnegative terms whose rounding (< 5 u relative)
+// the factor 1 + 2^-20 = 1 + 16 u covers, so err >= the bound.
+HoistedNode hoist_node(const WideFrame& f, const WideNode& n, const float (&t)[3], double t_err) {
+  HoistedNode hn;
+  hn.node = &n;
+  hn.k.kappa = f.kappa;
+  const float tf_err = up(t_err);
+  F4 ax[9];
+  for (int r = 0; r < 9; ++r) ax[r] = load4(n.axes[r]);
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k)
+      store4(hn.k.m[3 * i + k],
+             ax[3 * i] * splat4(f.r0[k]) + ax[3 * i + 1] * splat4(f.r0[3 + k]) + ax[3 * i + 2] * splat4(f.r0[6 + k]));
+  F4 d[3], e[3];
+  for (int k = 0; k < 3; ++k) {
+    d[k] = splat4(t[k]) - load4(n.center[k]);
+    e[k] = load4(n.half[k]);
+    store4(hn.k.ea[k], e[k]);
+  }
+  for (int i = 0; i < 3; ++i) store4(hn.tn[i], ax[3 * i] * d[0] + ax[3 * i + 1] * d[1] + ax[3 * i + 2] * d[2]);
+  const F4 d1 = abs4(d[0]) + abs4(d[1]) + abs4(d[2]);
+  const F4 kappa = splat4(f.kappa), margin = splat4(f.margin);
+  const F4 scaled = kappa * (e[0] + e[1] + e[2] + margin);
+  store4(hn.base, scaled + splat4(10.0f * kUnitRoundoff) * d1 + splat4(4.0f) * splat4(tf_err) + margin);
+  store4(hn.core, scaled + margin);
+  store4(hn.volume, e[0] * e[1] * e[2]);
+  store4(hn.err, (splat4(4.8f * kUnitRoundoff) * d1 + splat4(1.75f) * splat4(tf_err)) * splat4(1.0f + 0x1p-20f));
+  return hn;
 }
 
 // The moved reference point. x is hoisted for B's node whose ref is ref_b; the same box of A
@@ -52,48 +65,64 @@ DescentBox fresh(const WideFrame& f, const WideNode& n, int lane, const Vec3& re
 //   - the final addition: u |tn + fl(M c)| <= 1.0001 u |tn'|;
 //   - ref_c - ref_b - c: each double addition rounds by 2^-53 |ref_c,k|, and A^T R0 stretches a
 //     vector by at most (1 + eta)(1 + |R0^T R0 - I|) < 1.01 in each component of the 1-norm:
-//     <= 1.01 2^-53 |ref_c|_1;
-// so err' = err + 7.5 u |c|_1 + 1.01 u |tn'|_inf + 1.1 2^-53 |ref_c|_1 (computed in double, the
+//     <= 1.01 2^-53 |ref_c|_1 <= 1.01 2^-53 ref_bound (WideTree::ref_bound: the descent needs no
+//     ref itself, only this bound on how its rounding moves B's node);
+// so err' = err + 7.5 u |c|_1 + 1.01 u |tn'|_inf + ref_round, ref_round = 1.1 2^-53 ref_bound
+// (>= 1.1 2^-53 |ref_c|_1; every term computed in double, the
 // (1 + 2^-50) factor covering its rounding). The kernel needs its tn within err of exact with
 // base >= the rest of its allowance + 1.8 err (the allowance section: tn's error reaches each
 // axis' offset through weights summing to <= 1.8), so base' = core + up(2 err'); the float sum
 // can round it down by u relative, which the 2 against 1.8 covers.
-void move_b(DescentBox& x, const WideNode& n, int lane, const Vec3& ref_c, const float (&f_r0)[9]) {
+namespace {
+
+[[gnu::always_inline]] inline void step_b(DescentBox& x, const WideNode& n, int lane, double ref_round,
+                                          const float (&f_r0)[9]) {
   const float c[3] = {n.center[0][lane], n.center[1][lane], n.center[2][lane]};
+  const float(&m)[9][kWideLanes] = x.hn->k.m;
+  const int a = x.lane;
   float tinf = 0.0f;
   for (int i = 0; i < 3; ++i) {
-    x.h.tn[i] = x.h.tn[i] + (x.h.m[3 * i] * c[0] + x.h.m[3 * i + 1] * c[1] + x.h.m[3 * i + 2] * c[2]);
-    tinf = std::max(tinf, std::abs(x.h.tn[i]));
+    x.tn[i] = x.tn[i] + (m[3 * i][a] * c[0] + m[3 * i + 1][a] * c[1] + m[3 * i + 2][a] * c[2]);
+    tinf = std::max(tinf, std::abs(x.tn[i]));
   }
   const double c1 = std::abs(static_cast<double>(c[0])) + std::abs(static_cast<double>(c[1])) +
                     std::abs(static_cast<double>(c[2]));
-  const double r1 = std::abs(ref_c[0]) + std::abs(ref_c[1]) + std::abs(ref_c[2]);
-  x.err = (x.err + 7.5 * kU * c1 + 1.01 * kU * static_cast<double>(tinf) + 1.1 * 0x1p-53 * r1) * (1.0 + 0x1p-50);
-  x.h.base = x.core + up(2.0 * x.err);
+  x.err = (x.err + 7.5 * kU * c1 + 1.01 * kU * static_cast<double>(tinf) + ref_round) * (1.0 + 0x1p-50);
+  x.base = x.hn->core[a] + up(2.0 * x.err);
   // B's ref in the frame of A's node, for the boxes of A's side (fresh): t' = fl(t + fl(R0f c)),
   // exact t + R0 c + R0 (ref_c - ref_b - c). With R0f = fl(R0) (entries within u of R0's,
   // |R0_ij| <= 1.0001): |(R0f - R0) c| <= 1.0001 u |c|_1, the dot product gamma_3 1.0001 |c|_1,
-  // the addition 1.0001 u |t'|_inf, the refs' rounding 1.01 2^-53 |ref_c|_1 (as above).
+  // the addition 1.0001 u |t'|_inf, the refs' rounding 1.01 2^-53 |ref_c|_1 <= ref_round (as above).
   float t_inf = 0.0f;
   for (int k = 0; k < 3; ++k) {
     x.t[k] = x.t[k] + (f_r0[3 * k] * c[0] + f_r0[3 * k + 1] * c[1] + f_r0[3 * k + 2] * c[2]);
     t_inf = std::max(t_inf, std::abs(x.t[k]));
   }
-  x.t_err = (x.t_err + 4.5 * kU * c1 + 1.01 * kU * static_cast<double>(t_inf) + 1.1 * 0x1p-53 * r1) * (1.0 + 0x1p-50);
+  x.t_err = (x.t_err + 4.5 * kU * c1 + 1.01 * kU * static_cast<double>(t_inf) + ref_round) * (1.0 + 0x1p-50);
 }
 
-// B's ref in the frame of the child node of A's box x (ref ref_c = x.ref_a (+) c, c the box's
+// B's ref in the frame of the child node of A's box x (ref ref_c = ref_a (+) c, c the box's
 // float offset), from x.t: t' = fl(t - c), exact t - c - (ref_c - ref_a - c): the subtraction
-// rounds by 1.0001 u |t'|_inf, the refs' double additions by 2^-53 |ref_c|_1.
-void move_a(const DescentBox& x, const Vec3& ref_c, float (&t)[3], double& t_err) {
+// rounds by 1.0001 u |t'|_inf, the refs' double additions by 2^-53 |ref_c|_1 <= ref_round (A's
+// tree's, as in step_b).
+[[gnu::always_inline]] inline void step_a(const DescentBox& x, double ref_round, float (&t)[3], double& t_err) {
   float t_inf = 0.0f;
   for (int k = 0; k < 3; ++k) {
-    t[k] = x.t[k] - x.node->center[k][x.lane];
+    t[k] = x.t[k] - x.node().center[k][x.lane];
     t_inf = std::max(t_inf, std::abs(t[k]));
   }
-  const double r1 = std::abs(ref_c[0]) + std::abs(ref_c[1]) + std::abs(ref_c[2]);
-  t_err = (x.t_err + 1.01 * kU * static_cast<double>(t_inf) + 1.1 * 0x1p-53 * r1) * (1.0 + 0x1p-50);
+  t_err = (x.t_err + 1.01 * kU * static_cast<double>(t_inf) + ref_round) * (1.0 + 0x1p-50);
 }
+
+}  // namespace
+
+// The descent inlines the steps (step_b, step_a); these are the same code for the test.
+void move_b(DescentBox& x, const WideNode& n, int lane, double ref_round, const float (&f_r0)[9]) {
+  step_b(x, n, lane, ref_round, f_r0);
+}
+void move_a(const DescentBox& x, double ref_round, float (&t)[3], double& t_err) { step_a(x, ref_round, t, t_err); }
+
+double ref_round(const WideTree& tree) { return 1.1 * 0x1p-53 * tree.ref_bound * (1.0 + 0x1p-50); }
 
 namespace {
 
@@ -103,7 +132,7 @@ namespace {
 void nearest_first(const DescentBox* boxes, int count, int (&order)[kWideLanes]) {
   float key[kWideLanes];
   for (int k = 0; k < count; ++k) {
-    key[k] = std::abs(boxes[k].h.tn[0]) + std::abs(boxes[k].h.tn[1]) + std::abs(boxes[k].h.tn[2]);
+    key[k] = std::abs(boxes[k].tn[0]) + std::abs(boxes[k].tn[1]) + std::abs(boxes[k].tn[2]);
     int i = k;
     for (; i > 0 && key[order[i - 1]] > key[k]; --i) order[i] = order[i - 1];
     order[i] = k;
@@ -126,6 +155,7 @@ struct Descent {
   const Mesh& mb;
   const Pose& rel;
   WideFrame f;
+  double round_a, round_b;  // ref_round of A's and B's trees
   bool avx2;
   QueryResult& result;
   TrianglePairBatch batch;
@@ -168,15 +198,15 @@ struct Descent {
     return false;
   }
 
-  // Box x of A against B's node nb (ref ref_b), whose lanes `kept` the kernel kept. True: stop.
-  bool visit(const DescentBox& x, std::int32_t nb, const Vec3& ref_b, unsigned kept) {
+  // Box x of A against B's node nb, whose lanes `kept` the kernel kept. True: stop.
+  bool visit(const DescentBox& x, std::int32_t nb, unsigned kept) {
     const WideNode& n = wb.nodes[static_cast<std::size_t>(nb)];
-    const std::int32_t a_child = x.node->child[x.lane];
-    const std::uint32_t a_count = x.node->count[x.lane];
+    const std::int32_t a_child = x.node().child[x.lane];
+    const std::uint32_t a_count = x.node().count[x.lane];
+    const float a_volume = x.hn->volume[x.lane];
     unsigned down_a = 0;  // lanes of n met by the children of x
     DescentBox moved[kWideLanes];
     std::int32_t next[kWideLanes];
-    Vec3 next_ref[kWideLanes];
     int moves = 0;
     for (unsigned m = kept; m != 0; m &= m - 1) {
       const int lane = std::countr_zero(m);
@@ -189,11 +219,10 @@ struct Descent {
         continue;
       }
       const float volume = n.half[0][lane] * n.half[1][lane] * n.half[2][lane];
-      if (a_count > 0 || volume >= x.volume) {
+      if (a_count > 0 || volume >= a_volume) {
         next[moves] = n.child[lane];
-        next_ref[moves] = child_ref(ref_b, n, lane);
         moved[moves] = x;
-        move_b(moved[moves], n, lane, next_ref[moves], f.r0);
+        step_b(moved[moves], n, lane, round_b, f.r0);
         ++moves;
       } else {
         down_a |= 1u << lane;
@@ -207,55 +236,54 @@ struct Descent {
       if (k + 1 < moves) {
         const WideNode& b1 = wb.nodes[static_cast<std::size_t>(next[k + 1])];
         box_tests += static_cast<unsigned>(std::popcount(occupied(b1)));
-        const unsigned both = wide_overlap2(moved[k].h, b0, moved[k + 1].h, b1, avx2);
+        const unsigned both = wide_overlap2(moved[k].view(), b0, moved[k + 1].view(), b1, avx2);
         masks[k] = both & 0xFu;
         masks[k + 1] = both >> 4;
       } else {
-        masks[k] = wide_overlap(moved[k].h, b0);
+        masks[k] = wide_overlap(moved[k].view(), b0);
       }
     }
     int order[kWideLanes] = {0, 1, 2, 3};
     if constexpr (FirstHit) nearest_first(moved, moves, order);
     for (int i = 0; i < moves; ++i) {
       const int k = order[i];
-      if (masks[k] != 0 && visit(moved[k], next[k], next_ref[k], masks[k])) return true;
+      if (masks[k] != 0 && visit(moved[k], next[k], masks[k])) return true;
     }
     if (down_a != 0) {
-      const Vec3 ref_c = child_ref(x.ref_a, *x.node, x.lane);
       float t[3];
       double t_err;
-      move_a(x, ref_c, t, t_err);
-      return descend_a(a_child, ref_c, t, t_err, nb, ref_b, down_a);
+      step_a(x, round_a, t, t_err);
+      return descend_a(a_child, t, t_err, nb, down_a);
     }
     return false;
   }
 
-  // Each box of A's node na (ref ref_a) against the lanes `allowed` of B's node nb (ref ref_b).
-  // t, t_err: B's ref in na's frame (DescentBox::t).
-  bool descend_a(std::int32_t na, const Vec3& ref_a, const float (&t)[3], double t_err, std::int32_t nb,
-                 const Vec3& ref_b, unsigned allowed) {
+  // Each box of A's node na against the lanes `allowed` of B's node nb. t, t_err: B's ref in na's
+  // frame (DescentBox::t).
+  bool descend_a(std::int32_t na, const float (&t)[3], double t_err, std::int32_t nb, unsigned allowed) {
     const WideNode& n = wa.nodes[static_cast<std::size_t>(na)];
     const WideNode& b = wb.nodes[static_cast<std::size_t>(nb)];
+    const HoistedNode hn = hoist_node(f, n, t, t_err);
     DescentBox boxes[kWideLanes];
     int count = 0;
-    for (unsigned m = occupied(n); m != 0; m &= m - 1) boxes[count++] = fresh(f, n, std::countr_zero(m), ref_a, t, t_err);
+    for (unsigned m = occupied(n); m != 0; m &= m - 1) boxes[count++] = fresh(hn, std::countr_zero(m), t, t_err);
     box_tests += static_cast<std::uint64_t>(count) * static_cast<unsigned>(std::popcount(allowed));
     unsigned masks[kWideLanes];
     for (int k = 0; k < count; k += 2) {
       kernel_calls += k + 1 < count ? 2 : 1;
       if (k + 1 < count) {
-        const unsigned both = wide_overlap2(boxes[k].h, b, boxes[k + 1].h, b, avx2);
+        const unsigned both = wide_overlap2(boxes[k].view(), b, boxes[k + 1].view(), b, avx2);
         masks[k] = both & allowed;
         masks[k + 1] = (both >> 4) & allowed;
       } else {
-        masks[k] = wide_overlap(boxes[k].h, b) & allowed;
+        masks[k] = wide_overlap(boxes[k].view(), b) & allowed;
       }
     }
     int order[kWideLanes] = {0, 1, 2, 3};
     if constexpr (FirstHit) nearest_first(boxes, count, order);
     for (int i = 0; i < count; ++i) {
       const int k = order[i];
-      if (masks[k] != 0 && visit(boxes[k], nb, ref_b, masks[k])) return true;
+      if (masks[k] != 0 && visit(boxes[k], nb, masks[k])) return true;
     }
     return false;
   }
@@ -264,11 +292,11 @@ struct Descent {
 template <bool FirstHit>
 void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, const WideTree& wb, const Mesh& mb,
          const Pose& rel, QueryResult& result, WideCounters* counters) {
-  Descent<FirstHit> d{ta, wa, ma, tb, wb, mb, rel, wide_frame(rel, wa.eta, wb.eta, 0.0), avx2_bounds_available(),
-                      result, {}, {}};
+  Descent<FirstHit> d{ta,     wa, ma, tb, wb, mb, rel, wide_frame(rel, wa.eta, wb.eta, 0.0), ref_round(wa), ref_round(wb),
+                      avx2_bounds_available(), result, {}, {}};
   // The roots are not tested: the children of A's root against those of B's.
   const WidePair root = wide_pair(d.f, wa.root_ref, wb.root_ref);
-  (void)d.descend_a(0, wa.root_ref, root.t, static_cast<double>(root.t_err), 0, wb.root_ref, occupied(wb.nodes[0]));
+  (void)d.descend_a(0, root.t, static_cast<double>(root.t_err), 0, occupied(wb.nodes[0]));
   if constexpr (!FirstHit) d.batch.flush(result);
   result.stats.box_tests += d.box_tests;
   result.stats.triangle_tests += d.triangle_tests;

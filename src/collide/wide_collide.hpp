@@ -13,9 +13,10 @@
 //     The same hoisted box is tested against the child's node; only B's reference point moves,
 //     updated in float as tn' = tn + M c (c the child's stored float offset), with its error bound
 //     carried along and added to the kernel's allowance (the derivation is in wide_collide.cpp);
-//   - otherwise descend A: each child box of A's box is hoisted afresh (its node's reference point
-//     and B's, in double: wide_pair) and tested against the same node of B, restricted to the
-//     lanes that chose this branch. Two boxes of A go through the kernel at once (wide_overlap2).
+//   - otherwise descend A: the child node of A's box is hoisted, its four boxes at once in lanes
+//     (hoist_node, with B's ref in that node's frame carried in float), and each box is tested
+//     against the same node of B, restricted to the lanes that chose this branch. Two boxes of A
+//     go through the kernel at once (wide_overlap2).
 #include "tightbvh/collide.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/pose.hpp"
@@ -24,29 +25,57 @@
 
 namespace tightbvh::query_detail {
 
-// A box of A hoisted for the nodes of B it meets (hoist, wide_nodes.hpp), with what moving B's
-// reference point and descending A need.
+// A node of A hoisted in lanes for a node of B (hoist_node): the kernel's part (M and the half
+// extents of each box) and, per box, what descending needs.
+struct HoistedNode {
+  WideHoistedNode k;
+  float tn[3][kWideLanes];  // B's node ref in each box's frame, and base and err for it (DescentBox)
+  float base[kWideLanes];
+  float err[kWideLanes];
+  float core[kWideLanes];    // kappa (sum ea + margin) + margin: the part of base that does not depend on tn
+  float volume[kWideLanes];  // ea_0 ea_1 ea_2
+  const WideNode* node = nullptr;
+};
+
+// A box of A (lane `lane` of a hoisted node) against the nodes of B it meets.
 struct DescentBox {
-  WideHoisted h;
-  double err = 0.0;   // >= |h.tn_i - exact tn_i|, each i (exact: A^T (R0 ref_b + t0 - ref_a - ca))
-  float core = 0.0f;  // kappa (sum ea + margin) + margin: the part of h.base that does not depend on tn
-  float volume = 0.0f;
-  const WideNode* node = nullptr;  // the node of A holding the box, in lane `lane`
+  const HoistedNode* hn = nullptr;
   int lane = 0;
-  Vec3 ref_a;  // that node's ref
-  float t[3];  // B's node ref in the frame of A's node: R0 ref_b + t0 - ref_a, rounded
+  float tn[3];        // B's node ref in the box's frame: A^T (R0 ref_b + t0 - ref_a - ca), rounded
+  float base = 0.0f;  // the kernel's base allowance for this tn
+  double err = 0.0;   // >= |tn_i - exact tn_i|, each i
+  float t[3];         // B's node ref in the frame of A's node: R0 ref_b + t0 - ref_a, rounded
   double t_err = 0.0;  // >= |t_k - exact|, each k
+  [[nodiscard]] const WideNode& node() const { return *hn->node; }
+  [[nodiscard]] WideBoxView view() const { return {&hn->k, lane, tn, base}; }
 };
 
 // The descent's steps, exposed for the test of their error bounds (wide_collide.cpp derives them).
-// Box `lane` of A's node `n` (ref ref_a), hoisted for B's node whose ref is at t (with error
-// t_err) in n's frame.
-[[nodiscard]] DescentBox fresh(const WideFrame& f, const WideNode& n, int lane, const Vec3& ref_a, const float (&t)[3],
-                               double t_err);
-// The same box of A for B's child `lane` of node n, whose ref is ref_c: moves h.tn and t.
-void move_b(DescentBox& x, const WideNode& n, int lane, const Vec3& ref_c, const float (&f_r0)[9]);
-// B's ref in the frame of the child node of x (whose ref is ref_c), for that node's boxes.
-void move_a(const DescentBox& x, const Vec3& ref_c, float (&t)[3], double& t_err);
+// The boxes of A's node `n`, hoisted for B's node whose ref is at t (with error t_err) in n's frame.
+[[nodiscard]] HoistedNode hoist_node(const WideFrame& f, const WideNode& n, const float (&t)[3], double t_err);
+// Box `lane` of a hoisted node, for the node of B it was hoisted for (t, t_err as given to it).
+// Inline: built in place in the caller's array, so its fields are not stored and then reloaded
+// as a copy.
+[[nodiscard]] inline DescentBox fresh(const HoistedNode& hn, int lane, const float (&t)[3], double t_err) {
+  DescentBox x;
+  x.hn = &hn;
+  x.lane = lane;
+  for (int k = 0; k < 3; ++k) {
+    x.tn[k] = hn.tn[k][lane];
+    x.t[k] = t[k];
+  }
+  x.base = hn.base[lane];
+  x.err = static_cast<double>(hn.err[lane]);
+  x.t_err = t_err;
+  return x;
+}
+// The same box of A for B's child `lane` of node n: moves tn and t. ref_round: B's tree's.
+void move_b(DescentBox& x, const WideNode& n, int lane, double ref_round, const float (&f_r0)[9]);
+// B's ref in the frame of the child node of x, for that node's boxes. ref_round: A's tree's.
+void move_a(const DescentBox& x, double ref_round, float (&t)[3], double& t_err);
+// What the rounding of a child's ref (child_ref) adds to a moved point's error in `tree`:
+// 1.1 2^-53 ref_bound, rounded up.
+[[nodiscard]] double ref_round(const WideTree& tree);
 
 /// What the descent did beyond QueryStats, for the benchmark.
 struct WideCounters {

@@ -42,6 +42,23 @@ struct WideHoisted {
   float base;  // kappa (sum ea + margin) + 10 u |d|_1 + 4 t_err + margin
 };
 
+/// The four boxes of a node of A hoisted at once, in lanes (the descent's hoist_node): lane l holds
+/// what WideHoisted holds for the box in lane l of that node, but for tn and base, which move with
+/// B's node and are kept per box (WideBoxView).
+struct alignas(16) WideHoistedNode {
+  float m[9][kWideLanes];   // m[3 * i + k][lane] = a_i . R0 e_k
+  float ea[3][kWideLanes];  // half extents
+  float kappa = 0.0f;
+};
+
+/// One box of a WideHoistedNode (lane `lane`) with its own tn and base, as the kernel reads it.
+struct WideBoxView {
+  const WideHoistedNode* node;
+  int lane;
+  const float* tn;  // three floats
+  float base;
+};
+
 inline constexpr float kUnitRoundoff = 0x1p-24f;  // float's unit roundoff u = 2^-24
 
 /// How many of the 15 axes the kernel tries.

@@ -141,6 +141,7 @@ struct Builder {
   // node count against taking two levels as they come. Returns its index.
   std::int32_t make(std::uint32_t bi, const Vec3& ref) {
     const Node& n = tree.nodes[bi];
+    out.ref_bound = std::max(out.ref_bound, std::abs(ref[0]) + std::abs(ref[1]) + std::abs(ref[2]));
     std::uint32_t kids[4] = {n.first, n.first + 1, 0, 0};
     int count = 2;
     while (count < 4) {
@@ -188,6 +189,7 @@ WideTree build_wide(const Tree& tree, std::vector<std::uint32_t>* sources) {
   if (sources) sources->clear();
   const Node& root = tree.nodes[0];
   out.root_ref = root.box.center_d();
+  out.ref_bound = std::abs(out.root_ref[0]) + std::abs(out.root_ref[1]) + std::abs(out.root_ref[2]);
   if (root.is_leaf()) {
     out.nodes.push_back(empty_node());
     set_lane(out.nodes[0], 0, widen_box(root.box, out.root_ref, out.eta));

@@ -51,6 +51,7 @@ struct WideTree {
   std::vector<WideNode> nodes;
   Vec3 root_ref = Vec3::Zero();  // ref of nodes[0]
   double eta = 0.0;              // max |a_i . a_k - delta_ik| over every stored box's float axes (a bound)
+  double ref_bound = 0.0;        // >= |ref|_1 of every node: bounds the rounding of child_ref
 };
 
 // The ref of child `lane` of a node whose ref is `ref` (the builder and the descent alike).
@@ -198,6 +199,7 @@ inline F4 operator*(F4 x, F4 y) { return {_mm_mul_ps(x.v, y.v)}; }
 inline F4 splat4(float x) { return {_mm_set1_ps(x)}; }
 inline F4 load4(const float* p) { return {_mm_load_ps(p)}; }
 inline F4 abs4(F4 x) { return {_mm_andnot_ps(_mm_set1_ps(-0.0f), x.v)}; }
+inline void store4(float* p, F4 x) { _mm_store_ps(p, x.v); }
 struct M4 {
   __m128 v;
 };
@@ -226,6 +228,9 @@ inline F4 abs4(F4 x) {
   for (float& f : x.v) f = std::abs(f);
   return x;
 }
+inline void store4(float* p, F4 x) {
+  for (int l = 0; l < 4; ++l) p[l] = x.v[l];
+}
 struct M4 {
   unsigned v;
 };
@@ -243,25 +248,45 @@ inline F4 lane_abs(F4 x) { return abs4(x); }
 inline M4 lane_gt(F4 x, F4 y) { return gt4(x, y); }
 inline bool all_lanes(M4 m) { return bits4(m) == 0xFu; }
 
+// The kernel's B side (the four children of `b`) and its mask of kept lanes, A's side filled in.
+template <WideTier kTier>
+[[nodiscard]] inline unsigned wide_kept(WideLanes<F4>& l, const WideNode& b) {
+  for (int r = 0; r < 9; ++r) l.bx[r] = load4(b.axes[r]);
+  for (int k = 0; k < 3; ++k) {
+    l.cb[k] = load4(b.center[k]);
+    l.eb[k] = load4(b.half[k]);
+  }
+  l.center_factor = splat4(16.0f * kUnitRoundoff);
+  return ~bits4(wide_separated<kTier, F4, M4>(l)) & 0xFu;
+}
+
 /// The kernel: A's hoisted box `h` against the four children of B's node `b`. Returns the mask of
 /// lanes kept (bit l: child l may overlap A's box within the margin); empty lanes are never kept.
 template <WideTier kTier = WideTier::full>
 [[nodiscard]] inline unsigned wide_overlap(const WideHoisted& h, const WideNode& b) {
   WideLanes<F4> l;
-  for (int r = 0; r < 9; ++r) {
-    l.bx[r] = load4(b.axes[r]);
-    l.m[r] = splat4(h.m[r]);
-  }
+  for (int r = 0; r < 9; ++r) l.m[r] = splat4(h.m[r]);
   for (int k = 0; k < 3; ++k) {
-    l.cb[k] = load4(b.center[k]);
-    l.eb[k] = load4(b.half[k]);
     l.tn[k] = splat4(h.tn[k]);
     l.ea[k] = splat4(h.ea[k]);
   }
   l.kappa = splat4(h.kappa);
   l.base = splat4(h.base);
-  l.center_factor = splat4(16.0f * kUnitRoundoff);
-  return ~bits4(wide_separated<kTier, F4, M4>(l)) & 0xFu;
+  return wide_kept<kTier>(l, b);
+}
+
+/// The same for a box of a node of A hoisted in lanes (WideHoistedNode), bit for bit.
+template <WideTier kTier = WideTier::full>
+[[nodiscard]] inline unsigned wide_overlap(const WideBoxView& a, const WideNode& b) {
+  WideLanes<F4> l;
+  for (int r = 0; r < 9; ++r) l.m[r] = splat4(a.node->m[r][a.lane]);
+  for (int k = 0; k < 3; ++k) {
+    l.tn[k] = splat4(a.tn[k]);
+    l.ea[k] = splat4(a.node->ea[k][a.lane]);
+  }
+  l.kappa = splat4(a.node->kappa);
+  l.base = splat4(a.base);
+  return wide_kept<kTier>(l, b);
 }
 
 #ifdef TIGHTBVH_WIDE_AVX2
@@ -272,9 +297,16 @@ template <WideTier kTier = WideTier::full>
                                           const WideNode& b1);
 #endif
 
+#ifdef TIGHTBVH_WIDE_AVX2
+[[nodiscard]] unsigned wide_overlap2_avx2(const WideBoxView& a0, const WideNode& b0, const WideBoxView& a1,
+                                          const WideNode& b1);
+#endif
+
 /// wide_overlap(h0, b0) | wide_overlap(h1, b1) << 4: eight AVX2 lanes when `avx2`, else two calls.
-[[nodiscard]] inline unsigned wide_overlap2(const WideHoisted& h0, const WideNode& b0, const WideHoisted& h1,
-                                            const WideNode& b1, bool avx2) {
+/// H is WideHoisted or WideBoxView.
+template <class H>
+[[nodiscard]] inline unsigned wide_overlap2(const H& h0, const WideNode& b0, const H& h1, const WideNode& b1,
+                                            bool avx2) {
 #ifdef TIGHTBVH_WIDE_AVX2
   if (avx2) return wide_overlap2_avx2(h0, b0, h1, b1);
 #endif

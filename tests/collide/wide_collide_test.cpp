@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <random>
 #include <string>
 #include <vector>
@@ -173,22 +174,34 @@ TEST(WideCollide, MovedReferencePointsWithinTheirBounds) {
       const Mat3 rot = random_rotation(rng);
       const Pose rel{rot, a.center - rot * b.center + 0.5 * size * Vec3(unit(rng), unit(rng), unit(rng))};
       const WideFrame f = wide_frame(rel, a.wide.eta, b.wide.eta, 0.0);
-      const auto check = [&](const DescentBox& x, const Vec3& ref_b) {
+      const auto check = [&](const DescentBox& x, const Vec3& ref_a, const Vec3& ref_b) {
         long double t[3], d[3];
         for (int k = 0; k < 3; ++k) {
-          t[k] = -static_cast<long double>(x.ref_a[k]) + static_cast<long double>(rel.translation[k]);
+          t[k] = -static_cast<long double>(ref_a[k]) + static_cast<long double>(rel.translation[k]);
           for (int l = 0; l < 3; ++l)
             t[k] += static_cast<long double>(rel.rotation(k, l)) * static_cast<long double>(ref_b[l]);
           EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(x.t[k]) - t[k])), x.t_err);
-          d[k] = t[k] - static_cast<long double>(x.node->center[k][x.lane]);
+          d[k] = t[k] - static_cast<long double>(x.node().center[k][x.lane]);
         }
         for (int i = 0; i < 3; ++i) {
           long double tn = 0.0L;
-          for (int k = 0; k < 3; ++k) tn += static_cast<long double>(x.node->axes[3 * i + k][x.lane]) * d[k];
-          EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(x.h.tn[i]) - tn)), x.err);
+          for (int k = 0; k < 3; ++k) tn += static_cast<long double>(x.node().axes[3 * i + k][x.lane]) * d[k];
+          EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(x.tn[i]) - tn)), x.err);
         }
         EXPECT_LT(x.err, 1e-5 * size);
         ++steps;
+      };
+      // hoist_node's lanes are hoist's boxes, operation for operation.
+      const auto same_as_hoist = [&](const HoistedNode& hn, const float (&t)[3]) {
+        for (int lane = 0; lane < kWideLanes; ++lane) {
+          if (is_empty_lane(*hn.node, lane)) continue;
+          const WideHoisted h = hoist(f, WidePair{{t[0], t[1], t[2]}, 0.0f}, lane_box(*hn.node, lane));
+          for (int r = 0; r < 9; ++r) EXPECT_EQ(h.m[r], hn.k.m[r][lane]);
+          for (int i = 0; i < 3; ++i) {
+            EXPECT_EQ(h.tn[i], hn.tn[i][lane]);
+            EXPECT_EQ(h.ea[i], hn.k.ea[i][lane]);
+          }
+        }
       };
       const auto random_lane = [&](const WideNode& n) {
         int lanes[kWideLanes], count = 0;
@@ -197,23 +210,26 @@ TEST(WideCollide, MovedReferencePointsWithinTheirBounds) {
         return lanes[std::uniform_int_distribution<int>(0, count - 1)(rng)];
       };
       const WidePair root = wide_pair(f, a.wide.root_ref, b.wide.root_ref);
-      DescentBox x = fresh(f, a.wide.nodes[0], random_lane(a.wide.nodes[0]), a.wide.root_ref, root.t,
-                           static_cast<double>(root.t_err));
+      std::deque<HoistedNode> hoisted;  // the boxes' nodes, kept while the walk uses them
+      hoisted.push_back(hoist_node(f, a.wide.nodes[0], root.t, static_cast<double>(root.t_err)));
+      same_as_hoist(hoisted.back(), root.t);
+      DescentBox x = fresh(hoisted.back(), random_lane(a.wide.nodes[0]), root.t, static_cast<double>(root.t_err));
       std::int32_t nb = 0;
-      Vec3 ref_b = b.wide.root_ref;
+      Vec3 ref_a = a.wide.root_ref, ref_b = b.wide.root_ref;
       for (int step = 0; step < 40; ++step) {
-        check(x, ref_b);
+        check(x, ref_a, ref_b);
         const WideNode& n = b.wide.nodes[static_cast<std::size_t>(nb)];
         int b_lanes[kWideLanes], nbl = 0;
         for (int l = 0; l < kWideLanes; ++l)
           if (!is_empty_lane(n, l) && n.count[l] == 0) b_lanes[nbl++] = l;
-        const bool a_open = x.node->count[x.lane] == 0;
+        const bool a_open = x.node().count[x.lane] == 0;
         if (nbl == 0 && !a_open) break;
         if (nbl > 0 && (!a_open || unit(rng) < 0.6)) {  // B's side
           const int lane = b_lanes[std::uniform_int_distribution<int>(0, nbl - 1)(rng)];
           const Vec3 ref_c = child_ref(ref_b, n, lane);
           const DescentBox before = x;
-          move_b(x, n, lane, ref_c, f.r0);
+          EXPECT_LE(ref_c.lpNorm<1>(), b.wide.ref_bound);
+          move_b(x, n, lane, ref_round(b.wide), f.r0);
           // The step alone is within the bound's growth: tn and t moved by A^T R0 (ref_c - ref_b)
           // and R0 (ref_c - ref_b), computed in long double.
           long double moved[3];
@@ -228,25 +244,29 @@ TEST(WideCollide, MovedReferencePointsWithinTheirBounds) {
           }
           for (int i = 0; i < 3; ++i) {
             long double step = 0.0L;
-            for (int k = 0; k < 3; ++k) step += static_cast<long double>(x.node->axes[3 * i + k][x.lane]) * moved[k];
-            EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(x.h.tn[i]) -
-                                                   static_cast<long double>(before.h.tn[i]) - step)),
+            for (int k = 0; k < 3; ++k) step += static_cast<long double>(x.node().axes[3 * i + k][x.lane]) * moved[k];
+            EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(x.tn[i]) -
+                                                   static_cast<long double>(before.tn[i]) - step)),
                       x.err - before.err);
           }
           nb = n.child[lane];
           ref_b = ref_c;
         } else {  // A's side
-          const Vec3 ref_c = child_ref(x.ref_a, *x.node, x.lane);
+          const Vec3 ref_c = child_ref(ref_a, x.node(), x.lane);
           float t[3];
           double t_err = 0.0;
-          move_a(x, ref_c, t, t_err);
+          EXPECT_LE(ref_c.lpNorm<1>(), a.wide.ref_bound);
+          move_a(x, ref_round(a.wide), t, t_err);
           for (int k = 0; k < 3; ++k)  // the step alone: t moved by -(ref_c - ref_a)
             EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(t[k]) - static_cast<long double>(x.t[k]) +
                                                    (static_cast<long double>(ref_c[k]) -
-                                                    static_cast<long double>(x.ref_a[k])))),
+                                                    static_cast<long double>(ref_a[k])))),
                       t_err - x.t_err);
-          const WideNode& na = a.wide.nodes[static_cast<std::size_t>(x.node->child[x.lane])];
-          x = fresh(f, na, random_lane(na), ref_c, t, t_err);
+          const WideNode& na = a.wide.nodes[static_cast<std::size_t>(x.node().child[x.lane])];
+          hoisted.push_back(hoist_node(f, na, t, t_err));
+          same_as_hoist(hoisted.back(), t);
+          x = fresh(hoisted.back(), random_lane(na), t, t_err);
+          ref_a = ref_c;
         }
       }
     }

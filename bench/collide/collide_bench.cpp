@@ -663,7 +663,8 @@ BENCHMARK(BM_WideCallsDoubleKernel)->DenseRange(0, 2)->ArgName("scenario");
 
 // Queries per second of the descent over wide trees (collide_wide, src/collide/wide_collide.hpp)
 // against collide() on the same auto trees and poses. Args: engine (0 collide() with a reused
-// workspace, 1 collide_wide; adjacent in the run, so that both see the same machine), scenario,
+// workspace, 1 collide_wide, 2 collide_wide without swapped tests; adjacent in the run, so that
+// all see the same machine), scenario,
 // mode (0 first_hit, 1 all_pairs). Counters as
 // BM_Traversal's; box_tests count box pairs (a kernel lane for collide_wide).
 void BM_WideCollide(benchmark::State& state) {
@@ -677,6 +678,7 @@ void BM_WideCollide(benchmark::State& state) {
   const query_detail::WideTree& wa = wides.at(ta);
   const query_detail::WideTree& wb = wides.at(tb);
   const bool wide = state.range(0) != 0;
+  const bool swap = state.range(0) != 2;
   const int scenario = static_cast<int>(state.range(1));
   const bool all_pairs = state.range(2) != 0;
   const QueryMode mode = all_pairs ? QueryMode::all_pairs : QueryMode::first_hit;
@@ -687,7 +689,7 @@ void BM_WideCollide(benchmark::State& state) {
   std::size_t queries = 0, hits = 0, pairs = 0;
   for (auto _ : state) {
     for (const Pose& pose : sc.poses[scenario]) {
-      const QueryResult r = wide ? query_detail::collide_wide(*ta, wa, sc.a, *tb, wb, sc.b, pose, mode, &counters)
+      const QueryResult r = wide ? query_detail::collide_wide(*ta, wa, sc.a, *tb, wb, sc.b, pose, mode, &counters, swap)
                                  : collide(*ta, sc.a, Pose::identity(), *tb, sc.b, pose, options, workspace);
       total.box_tests += r.stats.box_tests;
       total.triangle_tests += r.stats.triangle_tests;
@@ -705,10 +707,10 @@ void BM_WideCollide(benchmark::State& state) {
   state.counters["pairs"] = static_cast<double>(pairs) / q;
   state.counters["queries_per_s"] = benchmark::Counter(q, benchmark::Counter::kIsRate);
   state.SetLabel(std::string(kScenarioNames[scenario]) + "/" + (all_pairs ? "all_pairs" : "first_hit") + "/" +
-                 (wide ? "collide_wide" : "collide"));
+                 (wide ? (swap ? "collide_wide" : "collide_wide_noswap") : "collide"));
 }
 BENCHMARK(BM_WideCollide)
-    ->ArgsProduct({{0, 1}, {0, 1, 2}, {0, 1}})
+    ->ArgsProduct({{0, 1, 2}, {0, 1, 2}, {0, 1}})
     ->ArgNames({"wide", "scenario", "all_pairs"})
     ->Unit(benchmark::kMicrosecond);
 

@@ -124,6 +124,22 @@ void move_a(const DescentBox& x, double ref_round, float (&t)[3], double& t_err)
 
 double ref_round(const WideTree& tree) { return 1.1 * 0x1p-53 * tree.ref_bound * (1.0 + 0x1p-50); }
 
+// A's node ref in the frame of B's node under the swapped frame (wide_frame_swapped: P' = (R0^T,
+// t0'), t0' = -R0^T t0 rounded in double), from t = B's node ref in A's node frame:
+//   s* = R0^T ref_a + t0' - ref_b = -R0^T t* + (R0^T R0 - I) ref_b + (t0' + R0^T t0),
+// t* = R0 ref_b + t0 - ref_a the exact t. It is computed as s = -fl(fl(R0)^T t), within
+//   |R0^T (t - t*)|_inf <= 1.74 t_err (a column of R0 has 1-norm <= sqrt(3)(1 + e0)),
+//   |(fl(R0) - R0)^T t|_inf + the float dot product <= u 1.0001 |t|_1 + gamma_3 1.0002 |t|_1
+//                                                  <= 4.01 u |t|_1,
+// of -R0^T t*; the other two terms are <= 3 e0 |ref_b|_inf <= swap_rel ref_bound and <= swap_abs
+// (wide_nodes.cpp), which `fixed` must cover.
+void swap_point(const float (&r0)[9], const float (&t)[3], double t_err, double fixed, float (&s)[3], double& s_err) {
+  for (int k = 0; k < 3; ++k) s[k] = -(r0[k] * t[0] + r0[3 + k] * t[1] + r0[6 + k] * t[2]);
+  const double t1 = std::abs(static_cast<double>(t[0])) + std::abs(static_cast<double>(t[1])) +
+                    std::abs(static_cast<double>(t[2]));
+  s_err = (1.74 * t_err + 4.01 * kU * t1 + fixed) * (1.0 + 0x1p-50);
+}
+
 namespace {
 
 // first_hit visits a step's boxes nearest first (as traverse.hpp orders a split's child pairs):
@@ -155,7 +171,11 @@ struct Descent {
   const Mesh& mb;
   const Pose& rel;
   WideFrame f;
+  WideFrame fs;             // the swapped frame (wide_frame_swapped)
   double round_a, round_b;  // ref_round of A's and B's trees
+  double swap_fixed;        // swap_point's `fixed` for B's tree: fs.swap_rel ref_bound + fs.swap_abs
+  double swap_hoist;        // swap_error of any box of B: fs.swap_rel reach_bound + fs.swap_abs
+  bool swap;                // test A's side with the roles swapped where that makes fewer calls
   bool avx2;
   QueryResult& result;
   TrianglePairBatch batch;
@@ -258,32 +278,78 @@ struct Descent {
     return false;
   }
 
+  // The wanted children of B's node b (the lanes `allowed`), each hoisted in B's frame, against
+  // the four children of A's node n in lanes: fewer kernel calls than A's boxes against b when
+  // fewer lanes of b are wanted than n has boxes. masks[lane of n] gets the lanes of b kept
+  // against it. Not inlined: its frame stays off descend_a's, which recurses.
+  [[gnu::noinline]] void swapped_tests(const WideNode& n, const WideNode& b, const float (&t)[3], double t_err,
+                                       unsigned allowed, unsigned (&masks)[kWideLanes]) {
+    // Fewer calls with the roles swapped: each wanted child of b hoisted (in B's frame) against
+    // the four children of n in lanes.
+    float s[3];
+    double s_err;
+    swap_point(f.r0, t, t_err, swap_fixed, s, s_err);
+    const HoistedNode hb = hoist_node(fs, b, s, (s_err + swap_hoist) * (1.0 + 0x1p-50));
+    int lanes[kWideLanes], m = 0;
+    for (unsigned w = allowed; w != 0; w &= w - 1) lanes[m++] = std::countr_zero(w);
+    kernel_calls += static_cast<unsigned>(m);
+    for (int k = 0; k < m; k += 2) {
+      const DescentBox y0 = fresh(hb, lanes[k], s, s_err);
+      unsigned kept[2];
+      if (k + 1 < m) {
+        const DescentBox y1 = fresh(hb, lanes[k + 1], s, s_err);
+        const unsigned both = wide_overlap2(y0.view(), n, y1.view(), n, avx2);
+        kept[0] = both & 0xFu;
+        kept[1] = both >> 4;
+      } else {
+        kept[0] = wide_overlap(y0.view(), n);
+        kept[1] = 0;
+      }
+      for (int h = 0; h < 2 && k + h < m; ++h)
+        for (unsigned w = kept[h]; w != 0; w &= w - 1) masks[std::countr_zero(w)] |= 1u << lanes[k + h];
+    }
+  }
+
   // Each box of A's node na against the lanes `allowed` of B's node nb. t, t_err: B's ref in na's
   // frame (DescentBox::t).
   bool descend_a(std::int32_t na, const float (&t)[3], double t_err, std::int32_t nb, unsigned allowed) {
     const WideNode& n = wa.nodes[static_cast<std::size_t>(na)];
     const WideNode& b = wb.nodes[static_cast<std::size_t>(nb)];
+    const unsigned boxes_of_a = occupied(n);
+    const int count = std::popcount(boxes_of_a), wanted = std::popcount(allowed);
+    box_tests += static_cast<std::uint64_t>(count) * static_cast<unsigned>(wanted);
+    unsigned masks[kWideLanes] = {0, 0, 0, 0};  // by lane of n: the lanes of b kept against it
+    const bool swapped = swap && wanted < count;
+    if (swapped) {
+      swapped_tests(n, b, t, t_err, allowed, masks);
+      if ((masks[0] | masks[1] | masks[2] | masks[3]) == 0) return false;
+    }
     const HoistedNode hn = hoist_node(f, n, t, t_err);
     DescentBox boxes[kWideLanes];
-    int count = 0;
-    for (unsigned m = occupied(n); m != 0; m &= m - 1) boxes[count++] = fresh(hn, std::countr_zero(m), t, t_err);
-    box_tests += static_cast<std::uint64_t>(count) * static_cast<unsigned>(std::popcount(allowed));
-    unsigned masks[kWideLanes];
-    for (int k = 0; k < count; k += 2) {
-      kernel_calls += k + 1 < count ? 2 : 1;
-      if (k + 1 < count) {
-        const unsigned both = wide_overlap2(boxes[k].view(), b, boxes[k + 1].view(), b, avx2);
-        masks[k] = both & allowed;
-        masks[k + 1] = (both >> 4) & allowed;
-      } else {
-        masks[k] = wide_overlap(boxes[k].view(), b) & allowed;
+    unsigned box_masks[kWideLanes];
+    int used = 0;
+    for (unsigned w = boxes_of_a; w != 0; w &= w - 1) {
+      const int lane = std::countr_zero(w);
+      boxes[used] = fresh(hn, lane, t, t_err);
+      box_masks[used++] = masks[lane];
+    }
+    if (!swapped) {
+      for (int k = 0; k < count; k += 2) {
+        kernel_calls += k + 1 < count ? 2 : 1;
+        if (k + 1 < count) {
+          const unsigned both = wide_overlap2(boxes[k].view(), b, boxes[k + 1].view(), b, avx2);
+          box_masks[k] = both & allowed;
+          box_masks[k + 1] = (both >> 4) & allowed;
+        } else {
+          box_masks[k] = wide_overlap(boxes[k].view(), b) & allowed;
+        }
       }
     }
     int order[kWideLanes] = {0, 1, 2, 3};
     if constexpr (FirstHit) nearest_first(boxes, count, order);
     for (int i = 0; i < count; ++i) {
       const int k = order[i];
-      if (masks[k] != 0 && visit(boxes[k], nb, masks[k])) return true;
+      if (box_masks[k] != 0 && visit(boxes[k], nb, box_masks[k])) return true;
     }
     return false;
   }
@@ -291,9 +357,26 @@ struct Descent {
 
 template <bool FirstHit>
 void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, const WideTree& wb, const Mesh& mb,
-         const Pose& rel, QueryResult& result, WideCounters* counters) {
-  Descent<FirstHit> d{ta,     wa, ma, tb, wb, mb, rel, wide_frame(rel, wa.eta, wb.eta, 0.0), ref_round(wa), ref_round(wb),
-                      avx2_bounds_available(), result, {}, {}};
+         const Pose& rel, QueryResult& result, WideCounters* counters, bool swap) {
+  const WideFrame fs = wide_frame_swapped(rel, wa.eta, wb.eta, 0.0);
+  Descent<FirstHit> d{ta,
+                      wa,
+                      ma,
+                      tb,
+                      wb,
+                      mb,
+                      rel,
+                      wide_frame(rel, wa.eta, wb.eta, 0.0),
+                      fs,
+                      ref_round(wa),
+                      ref_round(wb),
+                      (fs.swap_rel * wb.ref_bound + fs.swap_abs) * (1.0 + 0x1p-50),
+                      (fs.swap_rel * wb.reach_bound + fs.swap_abs) * (1.0 + 0x1p-50),
+                      swap,
+                      avx2_bounds_available(),
+                      result,
+                      {},
+                      {}};
   // The roots are not tested: the children of A's root against those of B's.
   const WidePair root = wide_pair(d.f, wa.root_ref, wb.root_ref);
   (void)d.descend_a(0, root.t, static_cast<double>(root.t_err), 0, occupied(wb.nodes[0]));
@@ -306,15 +389,15 @@ void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, con
 }  // namespace
 
 QueryResult collide_wide(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, const WideTree& wb,
-                         const Mesh& mb, const Pose& rel, QueryMode mode, WideCounters* counters) {
+                         const Mesh& mb, const Pose& rel, QueryMode mode, WideCounters* counters, bool swap) {
   QueryResult result;
   if (wa.nodes.empty() || wb.nodes.empty()) return result;
   check_tree_fits_mesh("collide_wide", ta, ma, "A");
   check_tree_fits_mesh("collide_wide", tb, mb, "B");
   if (mode == QueryMode::first_hit) {
-    run<true>(ta, wa, ma, tb, wb, mb, rel, result, counters);
+    run<true>(ta, wa, ma, tb, wb, mb, rel, result, counters, swap);
   } else {
-    run<false>(ta, wa, ma, tb, wb, mb, rel, result, counters);
+    run<false>(ta, wa, ma, tb, wb, mb, rel, result, counters, swap);
     std::sort(result.pairs.begin(), result.pairs.end());
     result.pairs.erase(std::unique(result.pairs.begin(), result.pairs.end()), result.pairs.end());
   }

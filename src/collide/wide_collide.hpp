@@ -76,6 +76,10 @@ void move_a(const DescentBox& x, double ref_round, float (&t)[3], double& t_err)
 // What the rounding of a child's ref (child_ref) adds to a moved point's error in `tree`:
 // 1.1 2^-53 ref_bound, rounded up.
 [[nodiscard]] double ref_round(const WideTree& tree);
+// A's node ref in B's node frame under the swapped frame (wide_frame_swapped), from t (B's node
+// ref in A's node frame, error t_err) and r0 = fl(R0): s with error s_err. `fixed` >=
+// swap_rel |ref_b|_inf + swap_abs of that frame (the derivation is in wide_collide.cpp).
+void swap_point(const float (&r0)[9], const float (&t)[3], double t_err, double fixed, float (&s)[3], double& s_err);
 
 /// What the descent did beyond QueryStats, for the benchmark.
 struct WideCounters {
@@ -87,9 +91,10 @@ struct WideCounters {
 /// `mode` all_pairs: result.pairs sorted and unique, the same set as collide()'s with margin 0;
 /// first_hit: result.hit as collide()'s, with the one pair found. Stats: box_tests counts box
 /// pairs (one box of A, one child of B: a lane of the kernel) tested, triangle_tests triangle
-/// pairs tested. Throws InputError for a pose that is not finite or not a rotation.
+/// pairs tested. `swap` false: A's side is never tested with the roles swapped (for the benchmark).
+/// Throws InputError for a pose that is not finite or not a rotation.
 [[nodiscard]] QueryResult collide_wide(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb,
                                        const WideTree& wb, const Mesh& mb, const Pose& rel, QueryMode mode,
-                                       WideCounters* counters = nullptr);
+                                       WideCounters* counters = nullptr, bool swap = true);
 
 }  // namespace tightbvh::query_detail

@@ -124,6 +124,14 @@ WideNode empty_node() {
   return n;
 }
 
+// A bound on |s|_inf for the points s of box `lane` of n (ref `ref`), as swap_error takes it.
+double reach(const WideNode& n, int lane, const Vec3& ref) {
+  double r = 0.0;
+  for (int k = 0; k < 3; ++k) r = std::max(r, std::abs(ref[k] + static_cast<double>(n.center[k][lane])));
+  const double e = static_cast<double>(n.half[0][lane]) + n.half[1][lane] + n.half[2][lane];
+  return (r + 1.01 * e) * (1.0 + 0x1p-50);
+}
+
 std::int32_t leaf_ref(const Node& leaf) {
   if (leaf.first > static_cast<std::uint32_t>(std::numeric_limits<std::int32_t>::max()))
     throw InputError("wide nodes: more than 2^31 triangles");
@@ -165,6 +173,7 @@ struct Builder {
     for (int lane = 0; lane < count; ++lane) {
       const Node& g = tree.nodes[kids[lane]];
       set_lane(out.nodes[index], lane, widen_box(g.box, ref, out.eta));
+      out.reach_bound = std::max(out.reach_bound, reach(out.nodes[index], lane, ref));
       if (sources) (*sources)[4 * static_cast<std::size_t>(index) + lane] = kids[lane];
       if (g.is_leaf()) {
         out.nodes[index].child[lane] = leaf_ref(g);
@@ -193,6 +202,7 @@ WideTree build_wide(const Tree& tree, std::vector<std::uint32_t>* sources) {
   if (root.is_leaf()) {
     out.nodes.push_back(empty_node());
     set_lane(out.nodes[0], 0, widen_box(root.box, out.root_ref, out.eta));
+    out.reach_bound = reach(out.nodes[0], 0, out.root_ref);
     out.nodes[0].child[0] = leaf_ref(root);
     out.nodes[0].count[0] = root.count;
     if (sources) sources->insert(sources->end(), {0u, 0u, 0u, 0u});

@@ -52,6 +52,7 @@ struct WideTree {
   Vec3 root_ref = Vec3::Zero();  // ref of nodes[0]
   double eta = 0.0;              // max |a_i . a_k - delta_ik| over every stored box's float axes (a bound)
   double ref_bound = 0.0;        // >= |ref|_1 of every node: bounds the rounding of child_ref
+  double reach_bound = 0.0;      // >= |ref + c|_inf + 1.01 sum e of every stored box (swap_error's |s|_inf)
 };
 
 // The ref of child `lane` of a node whose ref is `ref` (the builder and the descent alike).

@@ -157,7 +157,8 @@ TEST(WideCollide, SamePairsAsBruteForceOnSmallMeshes) {
 // The descent's float steps stay within their error bounds (wide_collide.cpp's derivation): along
 // random walks down knot1 and fandisk (at the origin and 1e5 away, random poses), moving B's node
 // (move_b), opening A's box (move_a, fresh), B's ref in A's node frame (t) and in A's box frame
-// (tn) are within t_err and err of their values computed in long double from the refs, each
+// (tn), and A's node ref in B's node frame for the swapped tests (swap_point), are within their
+// error bounds of their values computed in long double from the refs, each
 // step's own error within its bound's growth; and the bounds stay small against the boxes.
 TEST(WideCollide, MovedReferencePointsWithinTheirBounds) {
   std::mt19937_64 rng(380);
@@ -174,6 +175,7 @@ TEST(WideCollide, MovedReferencePointsWithinTheirBounds) {
       const Mat3 rot = random_rotation(rng);
       const Pose rel{rot, a.center - rot * b.center + 0.5 * size * Vec3(unit(rng), unit(rng), unit(rng))};
       const WideFrame f = wide_frame(rel, a.wide.eta, b.wide.eta, 0.0);
+      const WideFrame fs = wide_frame_swapped(rel, a.wide.eta, b.wide.eta, 0.0);
       const auto check = [&](const DescentBox& x, const Vec3& ref_a, const Vec3& ref_b) {
         long double t[3], d[3];
         for (int k = 0; k < 3; ++k) {
@@ -189,6 +191,18 @@ TEST(WideCollide, MovedReferencePointsWithinTheirBounds) {
           EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(x.tn[i]) - tn)), x.err);
         }
         EXPECT_LT(x.err, 1e-5 * size);
+        // A's node ref in B's node frame under the swapped frame, from t (swap_point), within its
+        // bound of R0^T ref_a + t0' - ref_b (t0' as the swapped frame rounded it).
+        float sw[3];
+        double sw_err = 0.0;
+        swap_point(f.r0, x.t, x.t_err, fs.swap_rel * b.wide.ref_bound + fs.swap_abs, sw, sw_err);
+        for (int k = 0; k < 3; ++k) {
+          long double exact = static_cast<long double>(fs.t0_d[k]) - static_cast<long double>(ref_b[k]);
+          for (int l = 0; l < 3; ++l)
+            exact += static_cast<long double>(fs.r0_d(k, l)) * static_cast<long double>(ref_a[l]);
+          EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(sw[k]) - exact)), sw_err);
+        }
+        EXPECT_LT(sw_err, 1e-5 * size);
         ++steps;
       };
       // hoist_node's lanes are hoist's boxes, operation for operation.
@@ -219,6 +233,12 @@ TEST(WideCollide, MovedReferencePointsWithinTheirBounds) {
       for (int step = 0; step < 40; ++step) {
         check(x, ref_a, ref_b);
         const WideNode& n = b.wide.nodes[static_cast<std::size_t>(nb)];
+        for (int l = 0; l < kWideLanes; ++l) {  // the swapped tests' bound on B's box points
+          if (is_empty_lane(n, l)) continue;
+          double reach = 0.0;
+          for (int k = 0; k < 3; ++k) reach = std::max(reach, std::abs(ref_b[k] + static_cast<double>(n.center[k][l])));
+          EXPECT_LE(reach + 1.01 * (n.half[0][l] + n.half[1][l] + n.half[2][l]), b.wide.reach_bound);
+        }
         int b_lanes[kWideLanes], nbl = 0;
         for (int l = 0; l < kWideLanes; ++l)
           if (!is_empty_lane(n, l) && n.count[l] == 0) b_lanes[nbl++] = l;

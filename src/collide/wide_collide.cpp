@@ -251,26 +251,28 @@ struct Descent {
         down_a |= 1u << lane;
       }
     }
-    unsigned masks[kWideLanes];
-    for (int k = 0; k < moves; k += 2) {
-      const WideNode& b0 = wb.nodes[static_cast<std::size_t>(next[k])];
-      box_tests += lanes_in(occupied(b0));
-      kernel_calls += k + 1 < moves ? 2 : 1;
-      if (k + 1 < moves) {
-        const WideNode& b1 = wb.nodes[static_cast<std::size_t>(next[k + 1])];
-        box_tests += lanes_in(occupied(b1));
-        const unsigned both = wide_overlap2(moved[k].view(), b0, moved[k + 1].view(), b1, avx2);
-        masks[k] = both & 0xFu;
-        masks[k + 1] = both >> 4;
-      } else {
-        masks[k] = wide_overlap(moved[k].view(), b0);
-      }
-    }
     int order[kWideLanes] = {0, 1, 2, 3};
     if constexpr (FirstHit) nearest_first(moved, moves, order);
-    for (int i = 0; i < moves; ++i) {
-      const int k = order[i];
-      if (masks[k] != 0 && visit(moved[k], next[k], masks[k])) return true;
+    // Two nodes per kernel call in the visiting order, each pair tested just before its descents,
+    // so that first_hit stopping below the first pair spares the second pair's call.
+    for (int i = 0; i < moves; i += 2) {
+      const int k0 = order[i], k1 = i + 1 < moves ? order[i + 1] : -1;
+      const WideNode& b0 = wb.nodes[static_cast<std::size_t>(next[k0])];
+      box_tests += lanes_in(occupied(b0));
+      unsigned m0 = 0, m1 = 0;
+      if (k1 >= 0) {
+        const WideNode& b1 = wb.nodes[static_cast<std::size_t>(next[k1])];
+        box_tests += lanes_in(occupied(b1));
+        kernel_calls += 2;
+        const unsigned both = wide_overlap2(moved[k0].view(), b0, moved[k1].view(), b1, avx2);
+        m0 = both & 0xFu;
+        m1 = both >> 4;
+      } else {
+        ++kernel_calls;
+        m0 = wide_overlap(moved[k0].view(), b0);
+      }
+      if (m0 != 0 && visit(moved[k0], next[k0], m0)) return true;
+      if (m1 != 0 && visit(moved[k1], next[k1], m1)) return true;
     }
     if (down_a != 0) {
       float t[3];
@@ -336,23 +338,24 @@ struct Descent {
       boxes[used] = fresh(hn, lane, t, t_err);
       box_masks[used++] = masks[lane];
     }
-    if (!swapped) {
-      for (int k = 0; k < count; k += 2) {
-        kernel_calls += k + 1 < count ? 2 : 1;
-        if (k + 1 < count) {
-          const unsigned both = wide_overlap2(boxes[k].view(), b, boxes[k + 1].view(), b, avx2);
-          box_masks[k] = both & allowed;
-          box_masks[k + 1] = (both >> 4) & allowed;
-        } else {
-          box_masks[k] = wide_overlap(boxes[k].view(), b) & allowed;
-        }
-      }
-    }
     int order[kWideLanes] = {0, 1, 2, 3};
     if constexpr (FirstHit) nearest_first(boxes, count, order);
-    for (int i = 0; i < count; ++i) {
-      const int k = order[i];
-      if (box_masks[k] != 0 && visit(boxes[k], nb, box_masks[k])) return true;
+    // As visit: two boxes per call in the visiting order, each pair tested just before its descents.
+    for (int i = 0; i < count; i += 2) {
+      const int k0 = order[i], k1 = i + 1 < count ? order[i + 1] : -1;
+      if (!swapped) {
+        if (k1 >= 0) {
+          kernel_calls += 2;
+          const unsigned both = wide_overlap2(boxes[k0].view(), b, boxes[k1].view(), b, avx2);
+          box_masks[k0] = both & allowed;
+          box_masks[k1] = (both >> 4) & allowed;
+        } else {
+          ++kernel_calls;
+          box_masks[k0] = wide_overlap(boxes[k0].view(), b) & allowed;
+        }
+      }
+      if (box_masks[k0] != 0 && visit(boxes[k0], nb, box_masks[k0])) return true;
+      if (k1 >= 0 && box_masks[k1] != 0 && visit(boxes[k1], nb, box_masks[k1])) return true;
     }
     return false;
   }

@@ -289,8 +289,6 @@ struct Descent {
   // against it. Not inlined: its frame stays off descend_a's, which recurses.
   [[gnu::noinline]] void swapped_tests(const WideNode& n, const WideNode& b, const float (&t)[3], double t_err,
                                        unsigned allowed, unsigned (&masks)[kWideLanes]) {
-    // Fewer calls with the roles swapped: each wanted child of b hoisted (in B's frame) against
-    // the four children of n in lanes.
     float s[3];
     double s_err;
     swap_point(f.r0, t, t_err, swap_fixed, s, s_err);

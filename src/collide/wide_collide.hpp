@@ -15,8 +15,12 @@
 //     carried along and added to the kernel's allowance (the derivation is in wide_collide.cpp);
 //   - otherwise descend A: the child node of A's box is hoisted, its four boxes at once in lanes
 //     (hoist_node, with B's ref in that node's frame carried in float), and each box is tested
-//     against the same node of B, restricted to the lanes that chose this branch. Two boxes of A
-//     go through the kernel at once (wide_overlap2).
+//     against the same node of B, restricted to the lanes that chose this branch; where fewer
+//     lanes of B chose it than A's node has boxes, those children of B are hoisted in B's frame
+//     instead and tested against A's node in lanes (swapped_tests, A's node ref in B's frame from
+//     swap_point).
+// Two tests go through the kernel at once (wide_overlap2, eight AVX2 lanes), in the visiting order
+// (first_hit: nearest first), each pair just before its descents.
 #include "tightbvh/collide.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/pose.hpp"

@@ -140,6 +140,37 @@ void swap_point(const float (&r0)[9], const float (&t)[3], double t_err, double 
   s_err = (1.74 * t_err + 4.01 * kU * t1 + fixed) * (1.0 + 0x1p-50);
 }
 
+// The descent's float errors bounded once per query, by summing the steps' bounds (step_b,
+// step_a, hoist_node's) over any path, so that the descent itself carries no error:
+//   - every pair of nodes has |t*|_inf <= x = |t_root|_inf + t_root_err + 1.01 spread_B +
+//     spread_A (t* = t_root* + R0 (ref_b - root_b) - (ref_a - root_a), |R0 v|_inf <= 1.01 |v|_1);
+//   - t moves down B at most depth_B times, with offsets summing to <= path_B, and down A at most
+//     depth_A times, each step adding <= 1.01 u |t'|_inf <= 1.01 u t_max (t_max = x + t_err) and
+//     its tree's ref_round: t_err = root_err + 4.5 u path_B + depth_B round_B + depth_A round_A
+//     + k t_max, k = 1.01 u (depth_A + depth_B), solved as (y + k x) / (1 - k);
+//   - a box of A hoisted anywhere has tn within 4.8 u |d|_1 + 1.75 t_err (|d|_1 <= 3.001 (t_max +
+//     offset_A), offset_A >= |ca|_1), and each of its at most depth_B moves down B adds
+//     7.5 u |c|_1 (summing to <= 7.5 u path_B), round_B and 1.01 u |tn'|_inf, with |tn'|_inf <=
+//     1.7323 (t_max + offset_A) + err (|a_i . v| <= (1 + eta) sqrt(3) |v|_inf): err = c + q tn_max,
+//     q = 1.01 u depth_B, solved likewise.
+// The kernel's base for a forward box is then core + up(2 err), as step_b sets it from its own err.
+DescentBounds descent_bounds(const WideTree& wa, const WideTree& wb, const WidePair& root) {
+  constexpr double kUp = 1.0 + 0x1p-50;
+  const double root_err = static_cast<double>(root.t_err);
+  double rt = 0.0;
+  for (const float v : root.t) rt = std::max(rt, std::abs(static_cast<double>(v)));
+  const double x = (rt + root_err + 1.01 * wb.spread + wa.spread) * kUp;
+  const double k = 1.01 * kU * static_cast<double>(wa.depth + wb.depth);
+  const double y = root_err + 4.5 * kU * wb.path_bound + wb.depth * ref_round(wb) + wa.depth * ref_round(wa);
+  DescentBounds b;
+  b.t_err = (y + k * x) / (1.0 - k) * kUp * kUp;
+  const double reach = (x + b.t_err + wa.offset_bound) * kUp;
+  const double q = 1.01 * kU * static_cast<double>(wb.depth);
+  const double c = 4.8 * kU * 3.001 * reach + 1.75 * b.t_err + 7.5 * kU * wb.path_bound + wb.depth * ref_round(wb);
+  b.err = (c + q * 1.7323 * reach) / (1.0 - q) * kUp * kUp;
+  return b;
+}
+
 namespace {
 
 // first_hit visits a step's boxes nearest first (as traverse.hpp orders a split's child pairs):
@@ -158,6 +189,17 @@ void nearest_first(const DescentBox* boxes, int count, int (&order)[kWideLanes])
 // The lanes set in a four-lane mask (std::popcount is a library call on x86-64 without POPCNT).
 int lanes_in(unsigned mask) { return (0x4332322132212110ull >> (4 * (mask & 0xFu))) & 0xF; }
 
+// step_b and step_a without their error bounds, which descent_bounds covers for the whole query.
+[[gnu::always_inline]] inline void move_b_fast(DescentBox& x, const WideNode& n, int lane, const float (&f_r0)[9]) {
+  const float c[3] = {n.center[0][lane], n.center[1][lane], n.center[2][lane]};
+  const float(&m)[9][kWideLanes] = x.hn->k.m;
+  const int a = x.lane;
+  for (int i = 0; i < 3; ++i) {
+    x.tn[i] = x.tn[i] + (m[3 * i][a] * c[0] + m[3 * i + 1][a] * c[1] + m[3 * i + 2][a] * c[2]);
+    x.t[i] = x.t[i] + (f_r0[3 * i] * c[0] + f_r0[3 * i + 1] * c[1] + f_r0[3 * i + 2] * c[2]);
+  }
+}
+
 unsigned occupied(const WideNode& n) {
   unsigned m = 0;
   for (int l = 0; l < kWideLanes; ++l) m |= static_cast<unsigned>(!is_empty_lane(n, l)) << l;
@@ -175,7 +217,6 @@ struct Descent {
   const Pose& rel;
   WideFrame f;
   WideFrame fs;             // the swapped frame (wide_frame_swapped)
-  double round_a, round_b;  // ref_round of A's and B's trees
   double swap_fixed;        // swap_point's `fixed` for B's tree: fs.swap_rel ref_bound + fs.swap_abs
   double swap_hoist;        // swap_error of any box of B: fs.swap_rel reach_bound + fs.swap_abs
   bool swap;                // test A's side with the roles swapped where that makes fewer calls
@@ -184,6 +225,8 @@ struct Descent {
   TrianglePairBatch batch;
   MappedChunk mapped;
   std::uint64_t box_tests = 0, triangle_tests = 0, kernel_calls = 0;
+  double t_err_q = 0.0;  // descent_bounds: t's error anywhere in the descent
+  float base_add = 0.0f;  // up(2 err) of descent_bounds: a forward box's base is its core plus this
 
   // The triangle pairs of A's leaf (ca, na) and B's leaf (cb, nb) (child references and counts),
   // in collide()'s order: B's triangles mapped into A's frame a chunk at a time. True: stop.
@@ -245,7 +288,7 @@ struct Descent {
       if (a_count > 0 || volume >= a_volume) {
         next[moves] = n.child[lane];
         moved[moves] = x;
-        step_b(moved[moves], n, lane, round_b, f.r0);
+        move_b_fast(moved[moves], n, lane, f.r0);
         ++moves;
       } else {
         down_a |= 1u << lane;
@@ -275,10 +318,9 @@ struct Descent {
       if (m1 != 0 && visit(moved[k1], next[k1], m1)) return true;
     }
     if (down_a != 0) {
-      float t[3];
-      double t_err;
-      step_a(x, round_a, t, t_err);
-      return descend_a(a_child, t, t_err, nb, down_a);
+      const float t[3] = {x.t[0] - x.node().center[0][x.lane], x.t[1] - x.node().center[1][x.lane],
+                          x.t[2] - x.node().center[2][x.lane]};
+      return descend_a(a_child, t, t_err_q, nb, down_a);
     }
     return false;
   }
@@ -327,7 +369,8 @@ struct Descent {
       swapped_tests(n, b, t, t_err, allowed, masks);
       if ((masks[0] | masks[1] | masks[2] | masks[3]) == 0) return false;
     }
-    const HoistedNode hn = hoist_node(f, n, t, t_err);
+    HoistedNode hn = hoist_node(f, n, t, t_err);
+    store4(hn.base, load4(hn.core) + splat4(base_add));  // descent_bounds' base, which moves keep
     DescentBox boxes[kWideLanes];
     unsigned box_masks[kWideLanes];
     int used = 0;
@@ -372,8 +415,6 @@ void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, con
                       rel,
                       wide_frame(rel, wa.eta, wb.eta, 0.0),
                       fs,
-                      ref_round(wa),
-                      ref_round(wb),
                       (fs.swap_rel * wb.ref_bound + fs.swap_abs) * (1.0 + 0x1p-50),
                       (fs.swap_rel * wb.reach_bound + fs.swap_abs) * (1.0 + 0x1p-50),
                       swap,
@@ -383,7 +424,10 @@ void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, con
                       {}};
   // The roots are not tested: the children of A's root against those of B's.
   const WidePair root = wide_pair(d.f, wa.root_ref, wb.root_ref);
-  (void)d.descend_a(0, root.t, static_cast<double>(root.t_err), 0, occupied(wb.nodes[0]));
+  const DescentBounds bounds = descent_bounds(wa, wb, root);
+  d.t_err_q = bounds.t_err;
+  d.base_add = up(2.0 * bounds.err);
+  (void)d.descend_a(0, root.t, d.t_err_q, 0, occupied(wb.nodes[0]));
   if constexpr (!FirstHit) d.batch.flush(result);
   result.stats.box_tests += d.box_tests;
   result.stats.triangle_tests += d.triangle_tests;

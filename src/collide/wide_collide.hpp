@@ -84,6 +84,14 @@ void move_a(const DescentBox& x, double ref_round, float (&t)[3], double& t_err)
 // ref in A's node frame, error t_err) and r0 = fl(R0): s with error s_err. `fixed` >=
 // swap_rel |ref_b|_inf + swap_abs of that frame (the derivation is in wide_collide.cpp).
 void swap_point(const float (&r0)[9], const float (&t)[3], double t_err, double fixed, float (&s)[3], double& s_err);
+// Bounds on the descent's float errors that hold for the whole query (derivation in
+// wide_collide.cpp): t_err for t (B's node ref in A's node frame) and err for tn (in A's box
+// frame), at any node pair the descent reaches from the roots, `root` the roots' wide_pair.
+struct DescentBounds {
+  double t_err = 0.0;
+  double err = 0.0;
+};
+[[nodiscard]] DescentBounds descent_bounds(const WideTree& wa, const WideTree& wb, const WidePair& root);
 
 /// What the descent did beyond QueryStats, for the benchmark.
 struct WideCounters {

@@ -132,6 +132,13 @@ double reach(const WideNode& n, int lane, const Vec3& ref) {
   return (r + 1.01 * e) * (1.0 + 0x1p-50);
 }
 
+// |c|_1 of lane `lane`'s stored offset, rounded up.
+double offset_norm(const WideNode& n, int lane) {
+  return (std::abs(static_cast<double>(n.center[0][lane])) + std::abs(static_cast<double>(n.center[1][lane])) +
+          std::abs(static_cast<double>(n.center[2][lane]))) *
+         (1.0 + 0x1p-50);
+}
+
 std::int32_t leaf_ref(const Node& leaf) {
   if (leaf.first > static_cast<std::uint32_t>(std::numeric_limits<std::int32_t>::max()))
     throw InputError("wide nodes: more than 2^31 triangles");
@@ -147,9 +154,13 @@ struct Builder {
   // children, the internal child with the largest box is replaced by its two children until there
   // are four (or only leaves): a node is full wherever the tree is deep enough, which halves the
   // node count against taking two levels as they come. Returns its index.
-  std::int32_t make(std::uint32_t bi, const Vec3& ref) {
+  // `depth` counts the nodes above it, `path` sums |c|_1 of the offsets that lead to it.
+  std::int32_t make(std::uint32_t bi, const Vec3& ref, int depth, double path) {
     const Node& n = tree.nodes[bi];
     out.ref_bound = std::max(out.ref_bound, std::abs(ref[0]) + std::abs(ref[1]) + std::abs(ref[2]));
+    out.depth = std::max(out.depth, depth);
+    out.path_bound = std::max(out.path_bound, path);
+    out.spread = std::max(out.spread, (ref - out.root_ref).lpNorm<1>() * (1.0 + 0x1p-50));
     std::uint32_t kids[4] = {n.first, n.first + 1, 0, 0};
     int count = 2;
     while (count < 4) {
@@ -174,6 +185,7 @@ struct Builder {
       const Node& g = tree.nodes[kids[lane]];
       set_lane(out.nodes[index], lane, widen_box(g.box, ref, out.eta));
       out.reach_bound = std::max(out.reach_bound, reach(out.nodes[index], lane, ref));
+      out.offset_bound = std::max(out.offset_bound, offset_norm(out.nodes[index], lane));
       if (sources) (*sources)[4 * static_cast<std::size_t>(index) + lane] = kids[lane];
       if (g.is_leaf()) {
         out.nodes[index].child[lane] = leaf_ref(g);
@@ -183,7 +195,8 @@ struct Builder {
     for (int lane = 0; lane < count; ++lane) {
       const Node& g = tree.nodes[kids[lane]];
       if (g.is_leaf()) continue;
-      const std::int32_t c = make(kids[lane], child_ref(ref, out.nodes[index], lane));
+      const std::int32_t c = make(kids[lane], child_ref(ref, out.nodes[index], lane), depth + 1,
+                                  path + offset_norm(out.nodes[index], lane));
       out.nodes[index].child[lane] = c;
     }
     return index;
@@ -203,13 +216,14 @@ WideTree build_wide(const Tree& tree, std::vector<std::uint32_t>* sources) {
     out.nodes.push_back(empty_node());
     set_lane(out.nodes[0], 0, widen_box(root.box, out.root_ref, out.eta));
     out.reach_bound = reach(out.nodes[0], 0, out.root_ref);
+    out.offset_bound = offset_norm(out.nodes[0], 0);
     out.nodes[0].child[0] = leaf_ref(root);
     out.nodes[0].count[0] = root.count;
     if (sources) sources->insert(sources->end(), {0u, 0u, 0u, 0u});
     return out;
   }
   out.nodes.reserve(tree.nodes.size() / 3 + 1);
-  Builder{tree, out, sources}.make(0, out.root_ref);
+  Builder{tree, out, sources}.make(0, out.root_ref, 0, 0.0);
   return out;
 }
 

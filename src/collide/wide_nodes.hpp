@@ -53,6 +53,11 @@ struct WideTree {
   double eta = 0.0;              // max |a_i . a_k - delta_ik| over every stored box's float axes (a bound)
   double ref_bound = 0.0;        // >= |ref|_1 of every node: bounds the rounding of child_ref
   double reach_bound = 0.0;      // >= |ref + c|_inf + 1.01 sum e of every stored box (swap_error's |s|_inf)
+  // What bounds a descent's float error in advance (wide_collide.cpp, descent_bounds):
+  int depth = 0;              // the most nodes above any node (moves down this tree on any path)
+  double path_bound = 0.0;    // >= the sum of |c|_1 over the offsets leading to any node
+  double spread = 0.0;        // >= |ref - root_ref|_1 of every node
+  double offset_bound = 0.0;  // >= |c|_1 of every stored box's offset
 };
 
 // The ref of child `lane` of a node whose ref is `ref` (the builder and the descent alike).

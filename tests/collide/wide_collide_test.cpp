@@ -158,7 +158,8 @@ TEST(WideCollide, SamePairsAsBruteForceOnSmallMeshes) {
 // random walks down knot1 and fandisk (at the origin and 1e5 away, random poses), moving B's node
 // (move_b), opening A's box (move_a, fresh), B's ref in A's node frame (t) and in A's box frame
 // (tn), and A's node ref in B's node frame for the swapped tests (swap_point), are within their
-// error bounds of their values computed in long double from the refs, each
+// error bounds of their values computed in long double from the refs, the steps' bounds within
+// those the descent uses for the whole query (descent_bounds), each
 // step's own error within its bound's growth; and the bounds stay small against the boxes.
 TEST(WideCollide, MovedReferencePointsWithinTheirBounds) {
   std::mt19937_64 rng(380);
@@ -176,6 +177,10 @@ TEST(WideCollide, MovedReferencePointsWithinTheirBounds) {
       const Pose rel{rot, a.center - rot * b.center + 0.5 * size * Vec3(unit(rng), unit(rng), unit(rng))};
       const WideFrame f = wide_frame(rel, a.wide.eta, b.wide.eta, 0.0);
       const WideFrame fs = wide_frame_swapped(rel, a.wide.eta, b.wide.eta, 0.0);
+      const WidePair root = wide_pair(f, a.wide.root_ref, b.wide.root_ref);
+      const DescentBounds query = descent_bounds(a.wide, b.wide, root);
+      EXPECT_LT(query.t_err, 1e-5 * size);
+      EXPECT_LT(query.err, 1e-5 * size);
       const auto check = [&](const DescentBox& x, const Vec3& ref_a, const Vec3& ref_b) {
         long double t[3], d[3];
         for (int k = 0; k < 3; ++k) {
@@ -191,6 +196,9 @@ TEST(WideCollide, MovedReferencePointsWithinTheirBounds) {
           EXPECT_LE(std::abs(static_cast<double>(static_cast<long double>(x.tn[i]) - tn)), x.err);
         }
         EXPECT_LT(x.err, 1e-5 * size);
+        // The bounds the descent uses for the whole query cover what the steps accumulate.
+        EXPECT_LE(x.t_err, query.t_err);
+        EXPECT_LE(x.err, query.err);
         // A's node ref in B's node frame under the swapped frame, from t (swap_point), within its
         // bound of R0^T ref_a + t0' - ref_b (t0' as the swapped frame rounded it).
         float sw[3];
@@ -223,7 +231,6 @@ TEST(WideCollide, MovedReferencePointsWithinTheirBounds) {
           if (!is_empty_lane(n, l)) lanes[count++] = l;
         return lanes[std::uniform_int_distribution<int>(0, count - 1)(rng)];
       };
-      const WidePair root = wide_pair(f, a.wide.root_ref, b.wide.root_ref);
       std::deque<HoistedNode> hoisted;  // the boxes' nodes, kept while the walk uses them
       hoisted.push_back(hoist_node(f, a.wide.nodes[0], root.t, static_cast<double>(root.t_err)));
       same_as_hoist(hoisted.back(), root.t);

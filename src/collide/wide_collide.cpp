@@ -73,10 +73,7 @@ HoistedNode hoist_node(const WideFrame& f, const WideNode& n, const float (&t)[3
 // base >= the rest of its allowance + 1.8 err (the allowance section: tn's error reaches each
 // axis' offset through weights summing to <= 1.8), so base' = core + up(2 err'); the float sum
 // can round it down by u relative, which the 2 against 1.8 covers.
-namespace {
-
-[[gnu::always_inline]] inline void step_b(DescentBox& x, const WideNode& n, int lane, double ref_round,
-                                          const float (&f_r0)[9]) {
+void move_b(DescentBox& x, const WideNode& n, int lane, double ref_round, const float (&f_r0)[9]) {
   const float c[3] = {n.center[0][lane], n.center[1][lane], n.center[2][lane]};
   const float(&m)[9][kWideLanes] = x.hn->k.m;
   const int a = x.lane;
@@ -104,8 +101,8 @@ namespace {
 // B's ref in the frame of the child node of A's box x (ref ref_c = ref_a (+) c, c the box's
 // float offset), from x.t: t' = fl(t - c), exact t - c - (ref_c - ref_a - c): the subtraction
 // rounds by 1.0001 u |t'|_inf, the refs' double additions by 2^-53 |ref_c|_1 <= ref_round (A's
-// tree's, as in step_b).
-[[gnu::always_inline]] inline void step_a(const DescentBox& x, double ref_round, float (&t)[3], double& t_err) {
+// tree's, as in move_b).
+void move_a(const DescentBox& x, double ref_round, float (&t)[3], double& t_err) {
   float t_inf = 0.0f;
   for (int k = 0; k < 3; ++k) {
     t[k] = x.t[k] - x.node().center[k][x.lane];
@@ -113,14 +110,6 @@ namespace {
   }
   t_err = (x.t_err + 1.01 * kU * static_cast<double>(t_inf) + ref_round) * (1.0 + 0x1p-50);
 }
-
-}  // namespace
-
-// The descent inlines the steps (step_b, step_a); these are the same code for the test.
-void move_b(DescentBox& x, const WideNode& n, int lane, double ref_round, const float (&f_r0)[9]) {
-  step_b(x, n, lane, ref_round, f_r0);
-}
-void move_a(const DescentBox& x, double ref_round, float (&t)[3], double& t_err) { step_a(x, ref_round, t, t_err); }
 
 double ref_round(const WideTree& tree) { return 1.1 * 0x1p-53 * tree.ref_bound * (1.0 + 0x1p-50); }
 
@@ -140,8 +129,8 @@ void swap_point(const float (&r0)[9], const float (&t)[3], double t_err, double 
   s_err = (1.74 * t_err + 4.01 * kU * t1 + fixed) * (1.0 + 0x1p-50);
 }
 
-// The descent's float errors bounded once per query, by summing the steps' bounds (step_b,
-// step_a, hoist_node's) over any path, so that the descent itself carries no error:
+// The descent's float errors bounded once per query, by summing the steps' bounds (move_b,
+// move_a, hoist_node's) over any path, so that the descent itself carries no error:
 //   - every pair of nodes has |t*|_inf <= x = |t_root|_inf + t_root_err + 1.01 spread_B +
 //     spread_A (t* = t_root* + R0 (ref_b - root_b) - (ref_a - root_a), |R0 v|_inf <= 1.01 |v|_1);
 //   - t moves down B at most depth_B times, with offsets summing to <= path_B, and down A at most
@@ -153,7 +142,7 @@ void swap_point(const float (&r0)[9], const float (&t)[3], double t_err, double 
 //     7.5 u |c|_1 (summing to <= 7.5 u path_B), round_B and 1.01 u |tn'|_inf, with |tn'|_inf <=
 //     1.7323 (t_max + offset_A) + err (|a_i . v| <= (1 + eta) sqrt(3) |v|_inf): err = c + q tn_max,
 //     q = 1.01 u depth_B, solved likewise.
-// The kernel's base for a forward box is then core + up(2 err), as step_b sets it from its own err.
+// The kernel's base for a forward box is then core + up(2 err), as move_b sets it from its own err.
 DescentBounds descent_bounds(const WideTree& wa, const WideTree& wb, const WidePair& root) {
   constexpr double kUp = 1.0 + 0x1p-50;
   const double root_err = static_cast<double>(root.t_err);
@@ -189,7 +178,8 @@ void nearest_first(const DescentBox* boxes, int count, int (&order)[kWideLanes])
 // The lanes set in a four-lane mask (std::popcount is a library call on x86-64 without POPCNT).
 int lanes_in(unsigned mask) { return (0x4332322132212110ull >> (4 * (mask & 0xFu))) & 0xF; }
 
-// step_b and step_a without their error bounds, which descent_bounds covers for the whole query.
+// move_b without its error bounds, which descent_bounds covers for the whole query (the descent's
+// move of A's side, t - c, is written where it is made).
 [[gnu::always_inline]] inline void move_b_fast(DescentBox& x, const WideNode& n, int lane, const float (&f_r0)[9]) {
   const float c[3] = {n.center[0][lane], n.center[1][lane], n.center[2][lane]};
   const float(&m)[9][kWideLanes] = x.hn->k.m;

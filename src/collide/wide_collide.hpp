@@ -11,8 +11,9 @@
 //     batch of tri_batch.hpp where the CPU has AVX2, which decides as tri_tri_overlap does);
 //   - B's child internal and at least as large (volume) as A's box, or A's box a leaf: descend B.
 //     The same hoisted box is tested against the child's node; only B's reference point moves,
-//     updated in float as tn' = tn + M c (c the child's stored float offset), with its error bound
-//     carried along and added to the kernel's allowance (the derivation is in wide_collide.cpp);
+//     updated in float as tn' = tn + M c (c the child's stored float offset); its error is
+//     bounded once per query (descent_bounds, which sums the steps' bounds over any path: the
+//     derivations are in wide_collide.cpp) and that bound is in every forward box's allowance;
 //   - otherwise descend A: the child node of A's box is hoisted, its four boxes at once in lanes
 //     (hoist_node, with B's ref in that node's frame carried in float), and each box is tested
 //     against the same node of B, restricted to the lanes that chose this branch; where fewer
@@ -54,7 +55,8 @@ struct DescentBox {
   [[nodiscard]] WideBoxView view() const { return {&hn->k, lane, tn, base}; }
 };
 
-// The descent's steps, exposed for the test of their error bounds (wide_collide.cpp derives them).
+// The descent's steps with their error bounds, exposed for the test (wide_collide.cpp derives them;
+// descent_bounds sums them over any path, and the descent moves without carrying them).
 // The boxes of A's node `n`, hoisted for B's node whose ref is at t (with error t_err) in n's frame.
 [[nodiscard]] HoistedNode hoist_node(const WideFrame& f, const WideNode& n, const float (&t)[3], double t_err);
 // Box `lane` of a hoisted node, for the node of B it was hoisted for (t, t_err as given to it).

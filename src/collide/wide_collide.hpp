@@ -1,8 +1,12 @@
 #pragma once
 // Internal: collide's descent over two wide trees (issue 38, wide_nodes.hpp), for all_pairs and
-// first_hit without margin, solid or contacts. Not yet what collide() runs; tested to report the
-// same pairs (tests/collide/wide_collide_test.cpp) and measured against it
+// first_hit without margin, solid or contacts. collide() on two Models runs it for all_pairs
+// (model.cpp); tested to report the same pairs as collide() on the trees
+// (tests/collide/wide_collide_test.cpp, tests/scene/model_test.cpp) and measured against it
 // (bench/collide/collide_bench.cpp, BM_WideCollide).
+//
+// The roots' boxes are tested first with collide()'s double test (box_test.hpp); where they
+// overlap, the descent starts from the children of A's wide root against those of B's.
 //
 // The descent visits (box of A, node of B) pairs: one box of A, hoisted once (M = A^T R0 and B's
 // node reference point in A's box frame, `hoist`), is tested by the float kernel against the
@@ -104,8 +108,8 @@ struct WideCounters {
 /// wide trees `wa` of `ta` and `wb` of `tb` (build_wide; the trees give the leaves' triangle order).
 /// `mode` all_pairs: result.pairs sorted and unique, the same set as collide()'s with margin 0;
 /// first_hit: result.hit as collide()'s, with the one pair found. Stats: box_tests counts box
-/// pairs (one box of A, one child of B: a lane of the kernel) tested, triangle_tests triangle
-/// pairs tested. `swap` false: A's side is never tested with the roles swapped (for the benchmark).
+/// pairs tested (the roots, then one box of A against one child of B: a lane of the kernel),
+/// triangle_tests triangle pairs tested. `swap` false: A's side is never tested with the roles swapped (for the benchmark).
 /// Throws InputError for a pose that is not finite or not a rotation.
 [[nodiscard]] QueryResult collide_wide(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb,
                                        const WideTree& wb, const Mesh& mb, const Pose& rel, QueryMode mode,

@@ -2,8 +2,10 @@
 /// @file
 /// A Model: one triangle mesh and its tree, built once, immutable, shared by any number of posed
 /// objects (scene.hpp) as a std::shared_ptr<const Model>. It also keeps what repeated queries on
-/// the mesh need, computed once: the mesh's closedness (for solid queries, closed.hpp) and a
-/// double-precision box around the mesh (for the scene's top-level tree).
+/// the mesh need, computed once: the mesh's closedness (for solid queries, closed.hpp), a
+/// double-precision box around the mesh (for the scene's top-level tree), and the tree's boxes
+/// again as wide single-precision nodes of four children, the layout collide() on two models
+/// descends for all_pairs (docs/design-notes/query-core.md).
 #include <cstddef>
 #include <memory>
 
@@ -18,6 +20,10 @@
 #include "tightbvh/tree.hpp"
 
 namespace tightbvh {
+
+namespace query_detail {
+struct WideTree;  // src/collide/wide_nodes.hpp: the query-time nodes, internal
+}
 
 /// A mesh, its tree and the per-mesh data of repeated queries. Immutable after construction.
 class Model {
@@ -39,7 +45,8 @@ class Model {
   /// node's axes, orthonormalised, the extents measured again and padded for rounding): what the
   /// scene's top-level tree bounds the model by under a pose.
   [[nodiscard]] const Obb& bounds() const { return bounds_; }
-  /// The heap bytes this model holds (vertices, triangles, tree nodes and order, closedness).
+  /// The heap bytes this model holds (vertices, triangles, tree nodes and order, wide nodes,
+  /// closedness).
   [[nodiscard]] std::size_t bytes() const;
 
  private:
@@ -49,6 +56,11 @@ class Model {
   Tree tree_;
   Closedness closedness_;
   Obb bounds_;
+  // The tree's wide nodes (internal type, so held by pointer; shared so that Model stays copyable).
+  std::shared_ptr<const query_detail::WideTree> wide_;
+
+  friend QueryResult collide(const Model&, const Pose&, const Model&, const Pose&, const QueryOptions&,
+                             QueryWorkspace&);
 };
 
 /// How models are shared: by any number of scene objects and threads, never modified.
@@ -59,8 +71,13 @@ using ModelPtr = std::shared_ptr<const Model>;
 /// A shared model from an existing tree over `mesh`, validated (see Model(Mesh, Tree)).
 [[nodiscard]] ModelPtr make_model(Mesh mesh, Tree tree);
 
-/// collide() (collide.hpp) of two posed models. With options.solid, a null closed_a / closed_b
-/// is taken from the models (computed once at construction).
+/// collide() (collide.hpp) of two posed models: the same answer. With options.solid, a null
+/// closed_a / closed_b is taken from the models (computed once at construction). all_pairs
+/// queries with the default options otherwise (margin 0, no solid, no contacts, larger_volume)
+/// descend the models' wide nodes, four children per node in single precision with a proven
+/// outward allowance, rather than the binary trees: the same pairs, faster; their stats count the
+/// box pairs that descent tests (one box of A against one child of B), so they differ from the
+/// binary descent's.
 [[nodiscard]] QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
                                   const QueryOptions& options = {});
 /// The same answer, with caller-owned scratch (no allocation per query).

@@ -1,6 +1,7 @@
 // Model: built once, shared; the model overloads answer as the low-level pair queries.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 #include "scene_fixtures.hpp"
@@ -50,12 +51,23 @@ TEST(Model, PairQueriesEqualTheLowLevelCalls) {
     const Model& a = *models[trial % models.size()];
     const Model& b = *models[(trial / 3) % models.size()];
     const Pose pa = random_pose(rng, 1.0), pb = random_pose(rng, 1.0);
+    // all_pairs descends the wide nodes: the same pairs, its own stats.
     const QueryOptions all{.mode = QueryMode::all_pairs};
     const QueryResult r = collide(a, pa, b, pb, all);
     const QueryResult low = collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, all);
+    EXPECT_EQ(r.hit, low.hit);
     EXPECT_EQ(r.pairs, low.pairs);
-    EXPECT_EQ(r.stats, low.stats);
+    EXPECT_GE(r.stats.triangle_tests, r.pairs.size());
     hits += r.hit;
+    // The other modes run the binary descent: the same stats too.
+    for (const QueryOptions& o : {QueryOptions{.mode = QueryMode::first_hit},
+                                  QueryOptions{.mode = QueryMode::all_pairs, .margin = 0.01},
+                                  QueryOptions{.mode = QueryMode::all_pairs, .descend = DescendRule::larger_extent}}) {
+      const QueryResult m = collide(a, pa, b, pb, o);
+      const QueryResult ml = collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, o);
+      EXPECT_EQ(m.pairs, ml.pairs);
+      EXPECT_EQ(m.stats, ml.stats);
+    }
     const DistanceResult d = distance(a, pa, b, pb);
     const DistanceResult dl = distance(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb);
     EXPECT_EQ(d.distance, dl.distance);
@@ -63,6 +75,45 @@ TEST(Model, PairQueriesEqualTheLowLevelCalls) {
   }
   EXPECT_GT(hits, 5);
   EXPECT_LT(hits, 55);
+}
+
+// Whole shipped meshes, many of them touching: the wide descent reports the binary descent's pairs.
+TEST(Model, AllPairsOnShippedMeshesEqualTheTreesPairs) {
+  const ModelPtr knot = make_model(query_test::shipped("meshes/knot1.off"));
+  const ModelPtr elephant = make_model(query_test::shipped("meshes/elephant.off"));
+  const Obb& kb = knot->bounds();
+  const Obb& eb = elephant->bounds();
+  std::mt19937_64 rng(11);
+  int touching = 0;
+  for (int trial = 0; trial < 24; ++trial) {
+    Pose pb = random_pose(rng, 0.0);
+    // Centers apart by a random fraction of the boxes' reach: deep overlap to just missing.
+    const double reach = kb.half_extents.norm() + eb.half_extents.norm();
+    pb.translation = kb.center - pb.rotation * eb.center +
+                     std::uniform_real_distribution<double>(0.0, 0.9)(rng) * reach * Vec3::UnitX();
+    const QueryOptions all{.mode = QueryMode::all_pairs};
+    const QueryResult r = collide(*knot, Pose{}, *elephant, pb, all);
+    const QueryResult low = collide(knot->tree(), knot->mesh(), Pose{}, elephant->tree(), elephant->mesh(), pb, all);
+    EXPECT_EQ(r.pairs, low.pairs) << "trial " << trial;
+    EXPECT_EQ(r.hit, !r.pairs.empty());
+    touching += r.hit;
+  }
+  EXPECT_GT(touching, 5);
+}
+
+TEST(Model, BadPosesAreRejectedInEveryMode) {
+  const auto models = mixed_models();
+  Pose nan;
+  nan.translation.x() = std::numeric_limits<double>::quiet_NaN();
+  Pose scaled;
+  scaled.rotation *= 1.01;
+  Pose reflected;
+  reflected.rotation(2, 2) = -1.0;
+  for (const Pose& bad : {nan, scaled, reflected})
+    for (const QueryMode mode : {QueryMode::first_hit, QueryMode::all_pairs}) {
+      EXPECT_THROW((void)collide(*models[0], bad, *models[1], Pose{}, {.mode = mode}), InputError);
+      EXPECT_THROW((void)collide(*models[0], Pose{}, *models[1], bad, {.mode = mode}), InputError);
+    }
 }
 
 TEST(Model, SolidQueriesUseTheModelsClosedness) {

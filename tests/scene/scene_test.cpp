@@ -20,9 +20,8 @@ using scene_test::random_pose;
 // ------------------------------------------------------------------ brute force
 
 QueryResult pair_collide(const SceneObject& a, const SceneObject& b, const QueryOptions& options) {
-  QueryOptions o = options;
-  if (o.solid) o.closed_a = &a.model->closedness(), o.closed_b = &b.model->closedness();
-  return collide(a.model->tree(), a.model->mesh(), a.pose, b.model->tree(), b.model->mesh(), b.pose, o);
+  // The models' own pair query (model_test.cpp checks it against the trees' collide()).
+  return collide(*a.model, a.pose, *b.model, b.pose, options);
 }
 
 DistanceResult pair_distance(const SceneObject& a, const SceneObject& b, const DistanceOptions& options) {

@@ -72,9 +72,10 @@ using ModelPtr = std::shared_ptr<const Model>;
 [[nodiscard]] ModelPtr make_model(Mesh mesh, Tree tree);
 
 /// collide() (collide.hpp) of two posed models: the same answer. With options.solid, a null
-/// closed_a / closed_b is taken from the models (computed once at construction). all_pairs
-/// queries with the default options otherwise (margin 0, no solid, no contacts, larger_volume)
-/// descend the models' wide nodes, four children per node in single precision with a proven
+/// closed_a / closed_b is taken from the models (computed once at construction). InputError for
+/// a pose that is not finite or not a proper rotation (require_valid_pose, scene.hpp). all_pairs
+/// queries with margin 0 and the default descend rule (solid and contacts too) descend the
+/// models' wide nodes, four children per node in single precision with a proven
 /// outward allowance, rather than the binary trees: the same pairs, faster; their stats count the
 /// box pairs that descent tests (one box of A against one child of B), so they differ from the
 /// binary descent's.

@@ -4,8 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <utility>
 
+#include "../collide/contact_query.hpp"
+#include "../collide/solid.hpp"
 #include "../collide/wide_collide.hpp"
 #include "../collide/wide_nodes.hpp"
 #include "tightbvh/error.hpp"
@@ -99,15 +102,23 @@ QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& 
 QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb, const QueryOptions& options,
                     QueryWorkspace& workspace) {
   // The wide descent where it was measured faster than the binary one in every scenario
-  // (docs/design-notes/query-core.md, "collide() on models"); margins, solids, contacts and
-  // first_hit stay on the binary trees.
+  // (docs/design-notes/query-core.md, "collide() on models"): all_pairs touching, with solids and
+  // contacts added after it as collide() adds them; margins and first_hit stay on the binary trees.
   require_valid_pose(pa, "collide", "the pose of model A");
   require_valid_pose(pb, "collide", "the pose of model B");
-  const bool wide = options.mode == QueryMode::all_pairs && options.margin == 0.0 && !options.solid &&
-                    !options.contacts && options.descend == DescendRule::larger_volume;
-  if (wide) {
-    return query_detail::collide_wide(a.tree_, *a.wide_, a.mesh_, b.tree_, *b.wide_, b.mesh_, relative_pose(pa, pb),
-                                      QueryMode::all_pairs);
+  if (options.mode == QueryMode::all_pairs && options.margin == 0.0 && options.descend == DescendRule::larger_volume) {
+    const QueryOptions o = with_closedness(a, b, options);
+    std::optional<query_detail::SolidMeshes> solid;  // before the descent: an open mesh always throws
+    if (o.solid) solid.emplace("collide", a.mesh_, o.closed_a, b.mesh_, o.closed_b);
+    const Pose rel = relative_pose(pa, pb);
+    QueryResult result =
+        query_detail::collide_wide(a.tree_, *a.wide_, a.mesh_, b.tree_, *b.wide_, b.mesh_, rel, QueryMode::all_pairs);
+    if (o.contacts) query_detail::add_contacts(result, a.mesh_, pa, b.mesh_, pb);
+    if (solid && !result.hit) {  // no pair: is one solid inside the other?
+      result.inside = solid->overlap(a.tree_, a.mesh_, b.tree_, b.mesh_, rel).inside;
+      result.hit = result.inside != Inside::none;
+    }
+    return result;
   }
   return collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, with_closedness(a, b, options), workspace);
 }

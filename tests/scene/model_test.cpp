@@ -97,6 +97,20 @@ TEST(Model, AllPairsOnShippedMeshesEqualTheTreesPairs) {
     EXPECT_EQ(r.pairs, low.pairs) << "trial " << trial;
     EXPECT_EQ(r.hit, !r.pairs.empty());
     touching += r.hit;
+    // Solids and contacts are added after the wide descent as collide() adds them.
+    const QueryOptions more{.mode = QueryMode::all_pairs, .solid = true, .contacts = true};
+    const QueryResult m = collide(*knot, Pose{}, *elephant, pb, more);
+    const QueryResult ml = collide(knot->tree(), knot->mesh(), Pose{}, elephant->tree(), elephant->mesh(), pb, more);
+    EXPECT_EQ(m.hit, ml.hit) << "trial " << trial;
+    EXPECT_EQ(m.inside, ml.inside) << "trial " << trial;
+    EXPECT_EQ(m.pairs, low.pairs) << "trial " << trial;
+    ASSERT_EQ(m.contacts.size(), ml.contacts.size()) << "trial " << trial;
+    for (std::size_t i = 0; i < m.contacts.size(); ++i) {
+      ASSERT_EQ(m.contacts[i].count, ml.contacts[i].count);
+      EXPECT_EQ(m.contacts[i].kind, ml.contacts[i].kind);
+      for (int k = 0; k < m.contacts[i].count; ++k) EXPECT_EQ(m.contacts[i].points[k], ml.contacts[i].points[k]);
+    }
+    EXPECT_EQ(m.curve_length, ml.curve_length);
   }
   EXPECT_GT(touching, 5);
 }
@@ -123,10 +137,18 @@ TEST(Model, SolidQueriesUseTheModelsClosedness) {
   const QueryResult r = collide(box, Pose{}, *small, Pose{}, {.solid = true});
   EXPECT_TRUE(r.hit);
   EXPECT_EQ(r.inside, Inside::b_in_a);
+  // all_pairs runs the wide descent, then the same containment test.
+  const QueryResult all = collide(*small, Pose{}, box, Pose{}, {.mode = QueryMode::all_pairs, .solid = true});
+  EXPECT_TRUE(all.hit);
+  EXPECT_TRUE(all.pairs.empty());
+  EXPECT_EQ(all.inside, Inside::a_in_b);
   EXPECT_EQ(distance(box, Pose{}, *small, Pose{}, {.solid = true}).distance, 0.0);
   // An open model: the solid query names the mesh.
   const ModelPtr open = mixed_models()[3];
   EXPECT_THROW((void)collide(box, Pose{}, *open, Pose{}, {.solid = true}), InputError);
+  EXPECT_THROW((void)collide(box, Pose{}, *open, Pose{}, {.mode = QueryMode::all_pairs, .solid = true}), InputError);
+  // Contacts need all_pairs, on models as on trees.
+  EXPECT_THROW((void)collide(box, Pose{}, *small, Pose{}, {.contacts = true}), InputError);
 }
 
 }  // namespace

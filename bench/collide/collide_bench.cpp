@@ -689,7 +689,7 @@ void BM_WideCollide(benchmark::State& state) {
   std::size_t queries = 0, hits = 0, pairs = 0;
   for (auto _ : state) {
     for (const Pose& pose : sc.poses[scenario]) {
-      const QueryResult r = wide ? query_detail::collide_wide(*ta, wa, sc.a, *tb, wb, sc.b, pose, mode, &counters, swap)
+      const QueryResult r = wide ? query_detail::collide_wide(*ta, wa, sc.a, *tb, wb, sc.b, pose, mode, 0.0, &counters, swap)
                                  : collide(*ta, sc.a, Pose::identity(), *tb, sc.b, pose, options, workspace);
       total.box_tests += r.stats.box_tests;
       total.triangle_tests += r.stats.triangle_tests;

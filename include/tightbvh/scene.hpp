@@ -251,5 +251,8 @@ struct ObjectDistance {
 /// Throws InputError "<who>: <what>: ..." unless `pose` is finite with an orthonormal,
 /// right-handed rotation (within kRotationTolerance).
 void require_valid_pose(const Pose& pose, const std::string& who, const std::string& what);
+/// The same check without a message: whether require_valid_pose would accept `pose`. Cheap (no
+/// allocation): for per-query checks, with require_valid_pose called for the message on failure.
+[[nodiscard]] bool is_valid_pose(const Pose& pose);
 
 }  // namespace tightbvh

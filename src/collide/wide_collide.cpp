@@ -143,6 +143,8 @@ void swap_point(const float (&r0)[9], const float (&t)[3], double t_err, double 
 //     7.5 u |c|_1 (summing to <= 7.5 u path_B), round_B and 1.01 u |tn'|_inf, with |tn'|_inf <=
 //     1.7323 (t_max + offset_A) + err (|a_i . v| <= (1 + eta) sqrt(3) |v|_inf): err = c + q tn_max,
 //     q = 1.01 u depth_B, solved likewise.
+// 1 / (1 - k) <= 1 + 2k for 0 <= k <= 1/2: a multiplication where k <= 1/4 (any tree of fewer than
+// four million levels), the division otherwise.
 // The kernel's base for a forward box is then core + up(2 err), as move_b sets it from its own err.
 DescentBounds descent_bounds(const WideTree& wa, const WideTree& wb, const WidePair& root) {
   constexpr double kUp = 1.0 + 0x1p-50;
@@ -153,11 +155,12 @@ DescentBounds descent_bounds(const WideTree& wa, const WideTree& wb, const WideP
   const double k = 1.01 * kU * static_cast<double>(wa.depth + wb.depth);
   const double y = root_err + 4.5 * kU * wb.path_bound + wb.depth * ref_round(wb) + wa.depth * ref_round(wa);
   DescentBounds b;
-  b.t_err = (y + k * x) / (1.0 - k) * kUp * kUp;
+  const auto over_one_minus = [](double v, double k) { return k <= 0.25 ? v * (1.0 + 2.0 * k) : v / (1.0 - k); };
+  b.t_err = over_one_minus(y + k * x, k) * kUp * kUp;
   const double reach = (x + b.t_err + wa.offset_bound) * kUp;
   const double q = 1.01 * kU * static_cast<double>(wb.depth);
   const double c = 4.8 * kU * 3.001 * reach + 1.75 * b.t_err + 7.5 * kU * wb.path_bound + wb.depth * ref_round(wb);
-  b.err = (c + q * 1.7323 * reach) / (1.0 - q) * kUp * kUp;
+  b.err = over_one_minus(c + q * 1.7323 * reach, q) * kUp * kUp;
   return b;
 }
 
@@ -213,11 +216,14 @@ struct Descent {
   bool swap;                // test A's side with the roles swapped where that makes fewer calls
   bool avx2;
   QueryResult& result;
-  TrianglePairBatch batch;
-  MappedChunk mapped;
+  // The leaves' scratch, the caller's locals: members of this aggregate would be value-initialised,
+  // zeroing their 2.9 KB on every query (a quarter of the setup of a query that stops early).
+  TrianglePairBatch& batch;
+  MappedChunk& mapped;
   std::uint64_t box_tests = 0, triangle_tests = 0, kernel_calls = 0;
   double t_err_q = 0.0;  // descent_bounds: t's error anywhere in the descent
   float base_add = 0.0f;  // up(2 err) of descent_bounds: a forward box's base is its core plus this
+  double margin = 0.0;    // > 0: the leaves report pairs within it (within_margin), as collide() does
 
   // The triangle pairs of A's leaf (ca, na) and B's leaf (cb, nb) (child references and counts),
   // in collide()'s order: B's triangles mapped into A's frame a chunk at a time. True: stop.
@@ -239,12 +245,13 @@ struct Descent {
           ++triangle_tests;
           const TrianglePair ids{ia, tb.triangle_order[fb + c + j]};
           if constexpr (!FirstHit) {
-            if (avx2) {
+            if (avx2 && margin == 0.0) {
               batch.add(p0, p1, p2, mapped[j][0], mapped[j][1], mapped[j][2], ids, result);
               continue;
             }
           }
-          if (tri_tri_overlap(p0, p1, p2, mapped[j][0], mapped[j][1], mapped[j][2])) {
+          if (margin > 0.0 ? within_margin(p0, p1, p2, mapped[j][0], mapped[j][1], mapped[j][2], margin)
+                           : tri_tri_overlap(p0, p1, p2, mapped[j][0], mapped[j][1], mapped[j][2])) {
             result.hit = true;
             result.pairs.push_back(ids);
             if constexpr (FirstHit) return true;
@@ -395,7 +402,7 @@ struct Descent {
 
 template <bool FirstHit>
 void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, const WideTree& wb, const Mesh& mb,
-         const Pose& rel, QueryResult& result, WideCounters* counters, bool swap) {
+         const Pose& rel, double margin, QueryResult& result, WideCounters* counters, bool swap) {
   // The roots first, as collide() does (its double test, box_test.hpp): most pairs of a scene's
   // candidates, and every separated pose of the benchmark's, stop here at one test, where the
   // wide roots would test A's root children against B's.
@@ -404,8 +411,11 @@ void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, con
   MappedBox root_b;
   root_b.axes.noalias() = rel.rotation * tb.nodes[0].box.axes_d();
   root_b.center.noalias() = rel.rotation * tb.nodes[0].box.center_d() + rel.translation;
-  if (!box_overlap(ta.nodes[0].box, root_b, tb.nodes[0].box.half_extents, box_allowance(ta, tb, rel))) return;
-  const WideFrame fs = wide_frame_swapped(rel, wa.eta, wb.eta, 0.0);
+  if (!box_overlap(ta.nodes[0].box, root_b, tb.nodes[0].box.half_extents, box_allowance(ta, tb, rel) + margin)) return;
+  const WideFrames frames = wide_frames(rel, wa.eta, wb.eta, margin);
+  const WideFrame& fs = frames.swapped;
+  TrianglePairBatch batch;
+  MappedChunk mapped;
   Descent<FirstHit> d{ta,
                       wa,
                       ma,
@@ -413,19 +423,20 @@ void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, con
                       wb,
                       mb,
                       rel,
-                      wide_frame(rel, wa.eta, wb.eta, 0.0),
+                      frames.forward,
                       fs,
                       (fs.swap_rel * wb.ref_bound + fs.swap_abs) * (1.0 + 0x1p-50),
                       (fs.swap_rel * wb.reach_bound + fs.swap_abs) * (1.0 + 0x1p-50),
                       swap,
                       avx2_bounds_available(),
                       result,
-                      {},
-                      {}};
+                      batch,
+                      mapped};
   // The wide roots are not tested: the children of A's root against those of B's.
   const WidePair root = wide_pair(d.f, wa.root_ref, wb.root_ref);
   const DescentBounds bounds = descent_bounds(wa, wb, root);
   d.t_err_q = bounds.t_err;
+  d.margin = margin;
   d.base_add = up(2.0 * bounds.err);
   (void)d.descend_a(0, root.t, d.t_err_q, 0, occupied(wb.nodes[0]));
   if constexpr (!FirstHit) d.batch.flush(result);
@@ -437,15 +448,18 @@ void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, con
 }  // namespace
 
 QueryResult collide_wide(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, const WideTree& wb,
-                         const Mesh& mb, const Pose& rel, QueryMode mode, WideCounters* counters, bool swap) {
+                         const Mesh& mb, const Pose& rel, QueryMode mode, double margin, WideCounters* counters,
+                         bool swap) {
   QueryResult result;
+  if (!(margin >= 0.0) || !std::isfinite(margin))
+    throw InputError("collide_wide: margin must be finite and >= 0, got " + std::to_string(margin));
   if (wa.nodes.empty() || wb.nodes.empty()) return result;
   check_tree_fits_mesh("collide_wide", ta, ma, "A");
   check_tree_fits_mesh("collide_wide", tb, mb, "B");
   if (mode == QueryMode::first_hit) {
-    run<true>(ta, wa, ma, tb, wb, mb, rel, result, counters, swap);
+    run<true>(ta, wa, ma, tb, wb, mb, rel, margin, result, counters, swap);
   } else {
-    run<false>(ta, wa, ma, tb, wb, mb, rel, result, counters, swap);
+    run<false>(ta, wa, ma, tb, wb, mb, rel, margin, result, counters, swap);
     std::sort(result.pairs.begin(), result.pairs.end());
     result.pairs.erase(std::unique(result.pairs.begin(), result.pairs.end()), result.pairs.end());
   }

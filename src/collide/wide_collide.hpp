@@ -1,6 +1,7 @@
 #pragma once
 // Internal: collide's descent over two wide trees (issue 38, wide_nodes.hpp), for all_pairs and
-// first_hit without margin, solid or contacts. collide() on two Models runs it for all_pairs
+// first_hit, with or without a margin (no solid, no contacts: model.cpp adds those after it).
+// collide() on two Models runs it for all_pairs
 // (model.cpp); tested to report the same pairs as collide() on the trees
 // (tests/collide/wide_collide_test.cpp, tests/scene/model_test.cpp) and measured against it
 // (bench/collide/collide_bench.cpp, BM_WideCollide).
@@ -106,13 +107,15 @@ struct WideCounters {
 
 /// Mesh A's triangles touching mesh B's, B placed in A's frame by `rel` (x_A = R x_B + t), over the
 /// wide trees `wa` of `ta` and `wb` of `tb` (build_wide; the trees give the leaves' triangle order).
-/// `mode` all_pairs: result.pairs sorted and unique, the same set as collide()'s with margin 0;
+/// `mode` all_pairs: result.pairs sorted and unique, the same set as collide()'s with the same
+/// `margin` (> 0: the pairs within it, boxes tested inflated by it; 0: touching pairs);
 /// first_hit: result.hit as collide()'s, with the one pair found. Stats: box_tests counts box
 /// pairs tested (the roots, then one box of A against one child of B: a lane of the kernel),
 /// triangle_tests triangle pairs tested. `swap` false: A's side is never tested with the roles swapped (for the benchmark).
-/// Throws InputError for a pose that is not finite or not a rotation.
+/// Throws InputError for a pose that is not finite or not a rotation, or a margin that is
+/// negative or not finite.
 [[nodiscard]] QueryResult collide_wide(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb,
                                        const WideTree& wb, const Mesh& mb, const Pose& rel, QueryMode mode,
-                                       WideCounters* counters = nullptr, bool swap = true);
+                                       double margin = 0.0, WideCounters* counters = nullptr, bool swap = true);
 
 }  // namespace tightbvh::query_detail

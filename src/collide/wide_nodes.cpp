@@ -3,6 +3,7 @@
 #include "wide_nodes.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -12,10 +13,11 @@
 namespace tightbvh::query_detail {
 namespace {
 
-// The smallest float >= x (x finite, within float's range).
+// The smallest float >= x (x finite, >= 0, within float's range). The next float up is the next
+// bit pattern for a float >= 0 (no library call: the query frames round up per query).
 float round_up(double x) {
   float f = static_cast<float>(x);
-  if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  if (static_cast<double>(f) < x) f = std::bit_cast<float>(std::bit_cast<std::uint32_t>(f) + 1u);
   return f;
 }
 
@@ -232,23 +234,54 @@ double wide_bytes_per_triangle(const WideTree& wide, std::size_t triangles) {
                         : static_cast<double>(wide.nodes.size() * sizeof(WideNode)) / static_cast<double>(triangles);
 }
 
-WideFrame wide_frame(const Pose& rel, double eta_a, double eta_b, double margin) {
-  if (!rel.rotation.allFinite() || !rel.translation.allFinite()) throw InputError("wide nodes: pose is not finite");
-  if (!(margin >= 0.0) || !std::isfinite(margin)) throw InputError("wide nodes: margin must be finite and >= 0");
+namespace {
+
+// max |M^T M - I| over the entries, in double, plus 1e-15 for the products' rounding (each entry:
+// three products and two additions of terms <= 1 in size, and the subtraction of delta_ik).
+double gram_deviation(const Mat3& m) {
+  double d = 0.0;
+  for (int i = 0; i < 3; ++i)
+    for (int k = i; k < 3; ++k)
+      d = std::max(d, std::abs(m.col(i).dot(m.col(k)) - (i == k ? 1.0 : 0.0)));
+  return d + 1e-15;
+}
+
+// The frame of the pose x -> r x + t, whose |r^T r - I| is within e0_max (gram_deviation(r)).
+WideFrame make_frame(const Mat3& r, const Vec3& t, double e0_max, double eta_a, double eta_b, float margin) {
   WideFrame f;
-  f.r0_d = rel.rotation;
-  f.t0_d = rel.translation;
+  f.r0_d = r;
+  f.t0_d = t;
   for (int l = 0; l < 3; ++l)
-    for (int k = 0; k < 3; ++k) f.r0[3 * l + k] = static_cast<float>(rel.rotation(l, k));
-  // |R0^T R0 - I| entries in double (rounding < 1e-15, added); B's axes mapped by R0 have Gram
-  // B^T (I + E0) B: within eta_b + |E0|_2 (1 + 3 eta_b) <= eta_b + 3.1 max |E0_ik| of I.
-  const Mat3 e0 = rel.rotation.transpose() * rel.rotation - Mat3::Identity();
-  const double e0_max = e0.cwiseAbs().maxCoeff() + 1e-15;
+    for (int k = 0; k < 3; ++k) f.r0[3 * l + k] = static_cast<float>(r(l, k));
+  // B's axes mapped by R0 have Gram B^T (I + E0) B (E0 = R0^T R0 - I): within eta_b + |E0|_2 (1 +
+  // 3 eta_b) <= eta_b + 3.1 max |E0_ik| of I.
   const double eta = std::max(eta_a, eta_b + 3.1 * e0_max);
   if (eta > 1e-4) throw InputError("wide nodes: pose rotation or box axes far from orthonormal");
   f.kappa = round_up((8.0 * eta + 24.0 * 0x1p-24) * (1.0 + 1e-6));
-  f.margin = round_up(margin);
+  f.margin = margin;
   return f;
+}
+
+void check_frame_input(const Pose& rel, double margin) {
+  if (!rel.rotation.allFinite() || !rel.translation.allFinite()) throw InputError("wide nodes: pose is not finite");
+  if (!(margin >= 0.0) || !std::isfinite(margin)) throw InputError("wide nodes: margin must be finite and >= 0");
+}
+
+// The swapped frame from the forward pose's |R0^T R0 - I| bound `e0_max` (wide_frame_swapped).
+WideFrame make_swapped(const Pose& rel, double e0_max, double eta_a, double eta_b, float margin) {
+  const Mat3 rt = rel.rotation.transpose();
+  const Vec3 t0 = -(rt * rel.translation);
+  WideFrame f = make_frame(rt, t0, gram_deviation(rt), eta_b, eta_a, margin);
+  f.swap_rel = 3.01 * e0_max;
+  f.swap_abs = 0x1p-50 * 1.01 * rel.translation.cwiseAbs().sum();
+  return f;
+}
+
+}  // namespace
+
+WideFrame wide_frame(const Pose& rel, double eta_a, double eta_b, double margin) {
+  check_frame_input(rel, margin);
+  return make_frame(rel.rotation, rel.translation, gram_deviation(rel.rotation), eta_a, eta_b, round_up(margin));
 }
 
 // The swapped kernel: a box b of B (hoisted) against the children of a node of A (lanes), in B's
@@ -270,15 +303,15 @@ WideFrame wide_frame(const Pose& rel, double eta_a, double eta_b, double margin)
 //     gamma_3 sum |R0_jk t0_j| <= 2^-50 1.01 |t0|_1 of -R0^T t0: swap_abs.
 // Both are far below the allowance's own terms for a double rotation (e0 ~ 1e-16).
 WideFrame wide_frame_swapped(const Pose& rel, double eta_a, double eta_b, double margin) {
-  if (!rel.rotation.allFinite() || !rel.translation.allFinite()) throw InputError("wide nodes: pose is not finite");
-  const Mat3 rt = rel.rotation.transpose();
-  const Vec3 t0 = -(rt * rel.translation);
-  WideFrame f = wide_frame(Pose{rt, t0}, eta_b, eta_a, margin);
-  const Mat3 e0 = rt * rel.rotation - Mat3::Identity();
-  const double e0_max = e0.cwiseAbs().maxCoeff() + 1e-15;
-  f.swap_rel = 3.01 * e0_max;
-  f.swap_abs = 0x1p-50 * 1.01 * rel.translation.cwiseAbs().sum();
-  return f;
+  check_frame_input(rel, margin);
+  return make_swapped(rel, gram_deviation(rel.rotation), eta_a, eta_b, round_up(margin));
+}
+
+WideFrames wide_frames(const Pose& rel, double eta_a, double eta_b, double margin) {
+  check_frame_input(rel, margin);
+  const double e0_max = gram_deviation(rel.rotation);
+  const float m = round_up(margin);
+  return {make_frame(rel.rotation, rel.translation, e0_max, eta_a, eta_b, m), make_swapped(rel, e0_max, eta_a, eta_b, m)};
 }
 
 WidePair wide_pair(const WideFrame& f, const Vec3& ref_a, const Vec3& ref_b) {

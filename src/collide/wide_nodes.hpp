@@ -133,6 +133,14 @@ struct WideFrame {
   return (f.swap_rel * s_inf + f.swap_abs) * (1.0 + 0x1p-50);
 }
 
+/// Both frames of a query at once (one |R0^T R0 - I| for the two): the same as wide_frame and
+/// wide_frame_swapped.
+struct WideFrames {
+  WideFrame forward;
+  WideFrame swapped;
+};
+[[nodiscard]] WideFrames wide_frames(const Pose& rel, double eta_a, double eta_b, double margin);
+
 /// One node pair: B's node ref in A's node frame, rounded to float, and a bound on that rounding.
 struct WidePair {
   float t[3];

@@ -201,11 +201,9 @@ using scene_detail::WorkspacePool;
 
 // ------------------------------------------------------------------ poses and boxes
 
-namespace {
-
-// The checks of require_valid_pose without the message: the scene's hot paths (set_poses of many
-// objects per frame) build the message only for a pose that fails.
-bool valid_pose(const Pose& pose) {
+// The checks of require_valid_pose without the message: the hot paths (a scene's set_poses of
+// many objects per frame, the model queries) build the message only for a pose that fails.
+bool is_valid_pose(const Pose& pose) {
   const Mat3& r = pose.rotation;
   if (!r.allFinite() || !pose.translation.allFinite()) return false;
   // |R^T R - I| entry by entry: the Gram matrix of the columns (symmetric, 6 dot products).
@@ -214,8 +212,6 @@ bool valid_pose(const Pose& pose) {
       if (!(std::abs(r.col(i).dot(r.col(j)) - (i == j ? 1.0 : 0.0)) <= kRotationTolerance)) return false;
   return r.col(0).cross(r.col(1)).dot(r.col(2)) >= 0.0;  // the determinant
 }
-
-}  // namespace
 
 void require_valid_pose(const Pose& pose, const std::string& who, const std::string& what) {
   if (!pose.rotation.allFinite() || !pose.translation.allFinite())
@@ -602,7 +598,7 @@ void Scene::set_poses(std::span<const ObjectId> ids, std::span<const Pose> poses
   for (std::size_t i = 0; i < ids.size(); ++i) {
     const Slot& slot = state_->slot(ids[i], "set_poses");
     at[i] = static_cast<std::uint32_t>(&slot - state_->slots.data());
-    if (!valid_pose(poses[i]))
+    if (!is_valid_pose(poses[i]))
       require_valid_pose(poses[i], "scene: set_poses: entry " + std::to_string(i), object_label(ids[i], slot.object.name));
   }
   for (std::size_t i = 0; i < ids.size(); ++i) {
@@ -727,7 +723,7 @@ std::vector<std::vector<ObjectHit>> collide_batch_single(const Scene& scene, con
                                                          const QueryOptions& options, unsigned threads) {
   check_margin(options.margin);
   for (std::size_t i = 0; i < poses.size(); ++i)
-    if (!valid_pose(poses[i])) require_valid_pose(poses[i], "scene collide_batch", "pose " + std::to_string(i));
+    if (!is_valid_pose(poses[i])) require_valid_pose(poses[i], "scene collide_batch", "pose " + std::to_string(i));
   const State& s = Access::state(scene);
   s.prepare();
   const QueryOptions o = scene_options(options);

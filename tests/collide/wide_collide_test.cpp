@@ -119,6 +119,45 @@ TEST(WideCollide, SamePairsAsCollideOnShippedMeshes) {
   }
 }
 
+// With a margin: the pairs within it, as collide() reports them, near first contact and apart by
+// about the margin, at the origin and far from it.
+TEST(WideCollide, SamePairsAsCollideWithAMargin) {
+  std::mt19937_64 rng(39);
+  std::normal_distribution<double> n;
+  for (const double offset : {0.0, 1e5}) {
+    Mesh mk = shipped_mesh("knot1.off"), me = shipped_mesh("elephant.off");
+    for (Vec3& v : mk.vertices) v += Vec3(offset, -offset, 0.5 * offset);
+    const Model knot = model(std::move(mk)), elephant = model(std::move(me));
+    const double size = knot.radius + elephant.radius, margin = 0.005 * size;
+    int within = 0, apart = 0;
+    for (int i = 0; i < 8; ++i) {
+      const Mat3 rot = random_rotation(rng);
+      const Vec3 dir = Vec3(n(rng), n(rng), n(rng)).normalized();
+      const auto pose_at = [&](double d) { return Pose{rot, Vec3(knot.center + d * dir - rot * elephant.center)}; };
+      const auto hit = [&](double d) {
+        return collide(knot.tree, knot.mesh, Pose::identity(), elephant.tree, elephant.mesh, pose_at(d), {}).hit;
+      };
+      double lo = 0.0, hi = size;
+      if (!hit(lo)) lo = hi;
+      for (int k = 0; k < 24 && lo < hi; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (hit(mid) ? lo : hi) = mid;
+      }
+      for (const double d : {lo, hi + 0.5 * margin, hi + 2.0 * margin, hi + 0.05 * size}) {
+        const Pose rel = pose_at(d);
+        const QueryOptions o{.mode = QueryMode::all_pairs, .margin = margin};
+        const QueryResult expected = collide(knot.tree, knot.mesh, Pose::identity(), elephant.tree, elephant.mesh, rel, o);
+        const QueryResult got = collide_wide(knot.tree, knot.wide, knot.mesh, elephant.tree, elephant.wide,
+                                             elephant.mesh, rel, QueryMode::all_pairs, margin);
+        EXPECT_EQ(got.pairs, expected.pairs) << "offset " << offset << " pose " << i << " d " << d;
+        (expected.hit ? within : apart)++;
+      }
+    }
+    EXPECT_GE(within, 12) << offset;
+    EXPECT_GE(apart, 3) << offset;
+  }
+}
+
 // A random soup of n triangles of size ~s in the unit cube, with some corners shared.
 Mesh soup(std::mt19937_64& rng, int n, double s) {
   std::uniform_real_distribution<double> unit(0.0, 1.0), small(-s, s);
@@ -308,6 +347,9 @@ TEST(WideCollide, EmptyTreesAndBadPose) {
   EXPECT_FALSE(none.hit);
   Pose bad = Pose::identity();
   bad.translation.x() = std::nan("");
+  EXPECT_THROW((void)collide_wide(a.tree, a.wide, a.mesh, a.tree, a.wide, a.mesh, Pose::identity(),
+                                  QueryMode::all_pairs, -1.0),
+               InputError);
   EXPECT_THROW((void)collide_wide(a.tree, a.wide, a.mesh, a.tree, a.wide, a.mesh, bad, QueryMode::first_hit),
                InputError);
 }

@@ -197,6 +197,29 @@ TEST(WideNodes, EmptyLanesAndOtherLanes) {
   EXPECT_EQ(kernel(a, Vec3::Zero(), far, Vec3::Zero(), Pose::identity(), {}, 3.5) & 1u, 1u);
 }
 
+TEST(WideNodes, BothFramesAtOnceEqualTheTwoCalls) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> coord(-1e3, 1e3);
+  const auto same = [](const WideFrame& x, const WideFrame& y) {
+    for (int r = 0; r < 9; ++r) EXPECT_EQ(x.r0[r], y.r0[r]);
+    EXPECT_EQ(x.r0_d, y.r0_d);
+    EXPECT_EQ(x.t0_d, y.t0_d);
+    EXPECT_EQ(x.kappa, y.kappa);
+    EXPECT_EQ(x.margin, y.margin);
+    EXPECT_EQ(x.swap_rel, y.swap_rel);
+    EXPECT_EQ(x.swap_abs, y.swap_abs);
+  };
+  for (int i = 0; i < 20; ++i) {
+    const Pose rel{random_rotation(rng), Vec3(coord(rng), coord(rng), coord(rng))};
+    const double eta_a = 1e-7 * (i % 3), eta_b = 2e-7 * (i % 2), margin = 0.01 * i;
+    const WideFrames both = wide_frames(rel, eta_a, eta_b, margin);
+    same(both.forward, wide_frame(rel, eta_a, eta_b, margin));
+    same(both.swapped, wide_frame_swapped(rel, eta_a, eta_b, margin));
+    EXPECT_GT(both.swapped.swap_rel, 0.0);
+  }
+  EXPECT_THROW((void)wide_frames(Pose::identity(), 0.0, 0.0, -1.0), InputError);
+}
+
 TEST(WideNodes, RejectsBadInput) {
   double eta = 0.0;
   Obb bad{Vec3(std::nan(""), 0, 0), Mat3::Identity(), Vec3(1, 1, 1)};

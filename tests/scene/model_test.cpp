@@ -59,9 +59,10 @@ TEST(Model, PairQueriesEqualTheLowLevelCalls) {
     EXPECT_EQ(r.pairs, low.pairs);
     EXPECT_GE(r.stats.triangle_tests, r.pairs.size());
     hits += r.hit;
+    const QueryOptions within{.mode = QueryMode::all_pairs, .margin = 0.01};
+    EXPECT_EQ(collide(a, pa, b, pb, within).pairs, collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, within).pairs);
     // The other modes run the binary descent: the same stats too.
     for (const QueryOptions& o : {QueryOptions{.mode = QueryMode::first_hit},
-                                  QueryOptions{.mode = QueryMode::all_pairs, .margin = 0.01},
                                   QueryOptions{.mode = QueryMode::all_pairs, .descend = DescendRule::larger_extent}}) {
       const QueryResult m = collide(a, pa, b, pb, o);
       const QueryResult ml = collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, o);
@@ -147,8 +148,12 @@ TEST(Model, SolidQueriesUseTheModelsClosedness) {
   const ModelPtr open = mixed_models()[3];
   EXPECT_THROW((void)collide(box, Pose{}, *open, Pose{}, {.solid = true}), InputError);
   EXPECT_THROW((void)collide(box, Pose{}, *open, Pose{}, {.mode = QueryMode::all_pairs, .solid = true}), InputError);
-  // Contacts need all_pairs, on models as on trees.
+  // Contacts need all_pairs and margin 0, on models as on trees; margins must be finite and >= 0.
   EXPECT_THROW((void)collide(box, Pose{}, *small, Pose{}, {.contacts = true}), InputError);
+  EXPECT_THROW((void)collide(box, Pose{}, *small, Pose{}, {.mode = QueryMode::all_pairs, .margin = 0.1, .contacts = true}),
+               InputError);
+  for (const double bad : {-1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()})
+    EXPECT_THROW((void)collide(box, Pose{}, *small, Pose{}, {.mode = QueryMode::all_pairs, .margin = bad}), InputError);
 }
 
 }  // namespace

@@ -101,21 +101,20 @@ QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& 
 
 QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb, const QueryOptions& options,
                     QueryWorkspace& workspace) {
-  // The wide descent where it was measured faster than the binary one in every scenario
-  // (docs/design-notes/query-core.md, "collide() on models"): all_pairs, with or without a margin,
-  // solids and contacts added after it as collide() adds them; first_hit stays on the binary
-  // trees. A bad margin goes there too, for collide()'s message.
+  // The wide descent where it was measured faster than the binary one where meshes touch
+  // (docs/design-notes/query-core.md, "collide() on models"): all_pairs without a margin, solids
+  // and contacts added after it as collide() adds them; first_hit and margins stay on the binary
+  // trees.
   if (!is_valid_pose(pa)) require_valid_pose(pa, "collide", "the pose of model A");
   if (!is_valid_pose(pb)) require_valid_pose(pb, "collide", "the pose of model B");
   if (options.mode == QueryMode::all_pairs && options.descend == DescendRule::larger_volume &&
-      options.margin >= 0.0 && std::isfinite(options.margin)) {
+      options.margin == 0.0) {
     const QueryOptions o = with_closedness(a, b, options);
-    query_detail::check_contacts("collide", o);
     std::optional<query_detail::SolidMeshes> solid;  // before the descent: an open mesh always throws
     if (o.solid) solid.emplace("collide", a.mesh_, o.closed_a, b.mesh_, o.closed_b);
     const Pose rel = relative_pose(pa, pb);
-    QueryResult result = query_detail::collide_wide(a.tree_, *a.wide_, a.mesh_, b.tree_, *b.wide_, b.mesh_, rel,
-                                                    QueryMode::all_pairs, o.margin);
+    QueryResult result =
+        query_detail::collide_wide(a.tree_, *a.wide_, a.mesh_, b.tree_, *b.wide_, b.mesh_, rel, QueryMode::all_pairs);
     if (o.contacts) query_detail::add_contacts(result, a.mesh_, pa, b.mesh_, pb);
     if (solid && !result.hit) {  // no pair: is one solid inside the other?
       result.inside = solid->overlap(a.tree_, a.mesh_, b.tree_, b.mesh_, rel).inside;

@@ -10,6 +10,7 @@
 #include "tightbvh/collide.hpp"
 #include "tightbvh/distance.hpp"
 #include "tightbvh/fcl/export.hpp"
+#include "tightbvh/model.hpp"
 #include "tightbvh/query_cache.hpp"
 
 namespace tightbvh::bench {
@@ -23,54 +24,50 @@ Tree build_tree(const Mesh& mesh, const Fitter& fitter) {
   return build(mesh, options);
 }
 
+// A Model per mesh (model.hpp), as an application holds one: the tree, its wide nodes (which
+// all_pairs descends) and the mesh's closedness (for solid queries), all built and timed here.
+ModelPtr build_model(const Mesh& mesh, const Fitter& fitter) {
+  BuildOptions options;
+  options.fitter = fitter;
+  options.threads = 1;
+  return make_model(mesh, options);
+}
+
 class TightbvhAdapter {
  public:
   TightbvhAdapter(const Input& in, const Fitter& fitter)
-      : ma_(in.a),
-        mb_(in.b),
-        a_(build_tree(in.a, fitter)),
-        b_(build_tree(in.b, fitter)),
-        margin_(kMarginOfScale * in.scale) {}
+      : a_(build_model(in.a, fitter)), b_(build_model(in.b, fitter)), margin_(kMarginOfScale * in.scale) {}
 
   [[nodiscard]] bool first_hit(const Pose& pose) const {
-    return collide(a_, ma_, Pose::identity(), b_, mb_, pose, {.mode = QueryMode::first_hit}, workspace_).hit;
+    return collide(*a_, Pose::identity(), *b_, pose, {.mode = QueryMode::first_hit}, workspace_).hit;
   }
   void all_pairs(const Pose& pose, std::vector<Pair>& out) const {
-    const QueryResult r =
-        collide(a_, ma_, Pose::identity(), b_, mb_, pose, {.mode = QueryMode::all_pairs}, workspace_);
+    const QueryResult r = collide(*a_, Pose::identity(), *b_, pose, {.mode = QueryMode::all_pairs}, workspace_);
     for (const TrianglePair& p : r.pairs) out.emplace_back(p.a, p.b);
   }
   void margin_pairs(const Pose& pose, std::vector<Pair>& out) const {
-    const QueryResult r = collide(a_, ma_, Pose::identity(), b_, mb_, pose,
-                                  {.mode = QueryMode::all_pairs, .margin = margin_}, workspace_);
+    const QueryResult r =
+        collide(*a_, Pose::identity(), *b_, pose, {.mode = QueryMode::all_pairs, .margin = margin_}, workspace_);
     for (const TrianglePair& p : r.pairs) out.emplace_back(p.a, p.b);
   }
   [[nodiscard]] double distance(const Pose& pose) const {
-    return tightbvh::distance(a_, ma_, Pose::identity(), b_, mb_, pose, {}, workspace_).distance;
+    return tightbvh::distance(*a_, Pose::identity(), *b_, pose, {}, workspace_).distance;
   }
-  [[nodiscard]] const Tree& a() const { return a_; }
-  [[nodiscard]] const Tree& b() const { return b_; }
-  [[nodiscard]] const Mesh& ma() const { return ma_; }
-  [[nodiscard]] const Mesh& mb() const { return mb_; }
-  // The meshes' closedness is computed on the first call (the checked warm-up pass), as a user
-  // computes it once per mesh; an open mesh throws there.
+  [[nodiscard]] const Tree& a() const { return a_->tree(); }
+  [[nodiscard]] const Tree& b() const { return b_->tree(); }
+  [[nodiscard]] const Mesh& ma() const { return a_->mesh(); }
+  [[nodiscard]] const Mesh& mb() const { return b_->mesh(); }
+  // An open mesh throws here, on the first call (the checked warm-up pass).
   [[nodiscard]] bool solid_hit(const Pose& pose) const {
-    if (!closed_a_) closed_a_ = check_closed(ma_), closed_b_ = check_closed(mb_);
-    return collide(a_, ma_, Pose::identity(), b_, mb_, pose,
-                   {.mode = QueryMode::first_hit, .solid = true, .closed_a = &*closed_a_, .closed_b = &*closed_b_},
-                   workspace_)
-        .hit;
+    return collide(*a_, Pose::identity(), *b_, pose, {.mode = QueryMode::first_hit, .solid = true}, workspace_).hit;
   }
 
  private:
-  const Mesh& ma_;
-  const Mesh& mb_;
-  Tree a_, b_;
+  ModelPtr a_, b_;
   double margin_;
   // Scratch reused by every query of this engine (engines run on one thread); mutable because
   // the queries are logically const.
   mutable QueryWorkspace workspace_;
-  mutable std::optional<Closedness> closed_a_, closed_b_;
 };
 
 // The same trees and queries through a QueryCache (front tracking), one cache per mode, so each

@@ -76,7 +76,8 @@ using ModelPtr = std::shared_ptr<const Model>;
 /// a pose that is not finite or not a proper rotation (require_valid_pose, scene.hpp). all_pairs
 /// queries with margin 0 and the default descend rule (solid and contacts too) descend the
 /// models' wide nodes, four children per node in single precision with a proven
-/// outward allowance, rather than the binary trees: the same pairs, faster; their stats count the
+/// outward allowance, rather than the binary trees: the same pairs, faster where the meshes touch
+/// (docs/design-notes/query-core.md, "collide() on models"); their stats count the
 /// box pairs that descent tests (one box of A against one child of B), so they differ from the
 /// binary descent's.
 [[nodiscard]] QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb,

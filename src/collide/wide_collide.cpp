@@ -403,9 +403,8 @@ struct Descent {
 template <bool FirstHit>
 void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, const WideTree& wb, const Mesh& mb,
          const Pose& rel, double margin, QueryResult& result, WideCounters* counters, bool swap) {
-  // The roots first, as collide() does (its double test, box_test.hpp): most pairs of a scene's
-  // candidates, and every separated pose of the benchmark's, stop here at one test, where the
-  // wide roots would test A's root children against B's.
+  // The roots first, as collide() does (its double test, box_test.hpp): a pair whose roots are
+  // apart stops here at one test, where the wide roots would test A's root children against B's.
   if (!rel.rotation.allFinite() || !rel.translation.allFinite()) throw InputError("collide_wide: pose is not finite");
   ++result.stats.box_tests;
   MappedBox root_b;

@@ -70,29 +70,40 @@ bool check_pose(const Model& a, const Model& b, const Pose& rel, const std::stri
   return all.hit;
 }
 
+// B approaching A along a random direction with a random rotation: B's center at A's plus d dir,
+// and first contact bracketed by bisection on collide()'s first_hit answer (lo touching, hi apart,
+// 24 halvings of the size).
+struct Approach {
+  Mat3 rot;
+  Vec3 dir, center_a, center_b;
+  double lo = 0.0, hi = 0.0;
+  [[nodiscard]] Pose at(double d) const { return Pose{rot, Vec3(center_a + d * dir - rot * center_b)}; }
+};
+
+Approach approach(const Model& a, const Model& b, std::mt19937_64& rng) {
+  std::normal_distribution<double> n;
+  Approach x{random_rotation(rng), Vec3::Zero(), a.center, b.center};
+  x.dir = Vec3(n(rng), n(rng), n(rng)).normalized();
+  const auto hit = [&](double d) { return collide(a.tree, a.mesh, Pose::identity(), b.tree, b.mesh, x.at(d), {}).hit; };
+  x.hi = a.radius + b.radius;
+  if (!hit(x.lo)) x.lo = x.hi;
+  for (int k = 0; k < 24 && x.lo < x.hi; ++k) {
+    const double mid = 0.5 * (x.lo + x.hi);
+    (hit(mid) ? x.lo : x.hi) = mid;
+  }
+  return x;
+}
+
 // Random poses of B about A: deep overlap (centers 0.15 (ra + rb) apart), near first contact
-// along a random direction (bisection on collide()'s first_hit answer, then 0.2% of the size
-// deeper and shallower), and separated (2% beyond first contact).
+// (0.2% of the size deeper and shallower), and separated (2% beyond first contact).
 void check_pair(const Model& a, const Model& b, int poses, std::mt19937_64& rng, const std::string& name,
                 int& touching, int& apart) {
-  std::normal_distribution<double> n;
   const double size = a.radius + b.radius;
   for (int i = 0; i < poses; ++i) {
-    const Mat3 rot = random_rotation(rng);
-    const Vec3 dir = Vec3(n(rng), n(rng), n(rng)).normalized();
-    const auto pose_at = [&](double d) { return Pose{rot, Vec3(a.center + d * dir - rot * b.center)}; };
-    const auto hit = [&](double d) {
-      return collide(a.tree, a.mesh, Pose::identity(), b.tree, b.mesh, pose_at(d), {}).hit;
-    };
-    double lo = 0.0, hi = size;
-    if (!hit(lo)) lo = hi;
-    for (int k = 0; k < 24 && lo < hi; ++k) {
-      const double mid = 0.5 * (lo + hi);
-      (hit(mid) ? lo : hi) = mid;
-    }
+    const Approach x = approach(a, b, rng);
     const std::string where = name + " pose " + std::to_string(i);
-    const double ds[] = {0.15 * size, lo - 0.002 * size, hi + 0.002 * size, hi + 0.02 * size, lo};
-    for (const double d : ds) (check_pose(a, b, pose_at(d), where + " d " + std::to_string(d)) ? touching : apart)++;
+    const double ds[] = {0.15 * size, x.lo - 0.002 * size, x.hi + 0.002 * size, x.hi + 0.02 * size, x.lo};
+    for (const double d : ds) (check_pose(a, b, x.at(d), where + " d " + std::to_string(d)) ? touching : apart)++;
   }
 }
 
@@ -123,7 +134,6 @@ TEST(WideCollide, SamePairsAsCollideOnShippedMeshes) {
 // about the margin, at the origin and far from it.
 TEST(WideCollide, SamePairsAsCollideWithAMargin) {
   std::mt19937_64 rng(39);
-  std::normal_distribution<double> n;
   for (const double offset : {0.0, 1e5}) {
     Mesh mk = shipped_mesh("knot1.off"), me = shipped_mesh("elephant.off");
     for (Vec3& v : mk.vertices) v += Vec3(offset, -offset, 0.5 * offset);
@@ -131,20 +141,9 @@ TEST(WideCollide, SamePairsAsCollideWithAMargin) {
     const double size = knot.radius + elephant.radius, margin = 0.005 * size;
     int within = 0, apart = 0;
     for (int i = 0; i < 8; ++i) {
-      const Mat3 rot = random_rotation(rng);
-      const Vec3 dir = Vec3(n(rng), n(rng), n(rng)).normalized();
-      const auto pose_at = [&](double d) { return Pose{rot, Vec3(knot.center + d * dir - rot * elephant.center)}; };
-      const auto hit = [&](double d) {
-        return collide(knot.tree, knot.mesh, Pose::identity(), elephant.tree, elephant.mesh, pose_at(d), {}).hit;
-      };
-      double lo = 0.0, hi = size;
-      if (!hit(lo)) lo = hi;
-      for (int k = 0; k < 24 && lo < hi; ++k) {
-        const double mid = 0.5 * (lo + hi);
-        (hit(mid) ? lo : hi) = mid;
-      }
-      for (const double d : {lo, hi + 0.5 * margin, hi + 2.0 * margin, hi + 0.05 * size}) {
-        const Pose rel = pose_at(d);
+      const Approach x = approach(knot, elephant, rng);
+      for (const double d : {x.lo, x.hi + 0.5 * margin, x.hi + 2.0 * margin, x.hi + 0.05 * size}) {
+        const Pose rel = x.at(d);
         const QueryOptions o{.mode = QueryMode::all_pairs, .margin = margin};
         const QueryResult expected = collide(knot.tree, knot.mesh, Pose::identity(), elephant.tree, elephant.mesh, rel, o);
         const QueryResult got = collide_wide(knot.tree, knot.wide, knot.mesh, elephant.tree, elephant.wide,

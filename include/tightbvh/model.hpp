@@ -24,6 +24,12 @@ namespace tightbvh {
 namespace query_detail {
 struct WideTree;  // src/collide/wide_nodes.hpp: the query-time nodes, internal
 }
+class Model;
+namespace scene_detail {
+// collide() of two models whose poses the caller has checked (src/scene/model.cpp; the scenes).
+[[nodiscard]] QueryResult collide_checked(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
+                                          const QueryOptions& options, QueryWorkspace& workspace);
+}  // namespace scene_detail
 
 /// A mesh, its tree and the per-mesh data of repeated queries. Immutable after construction.
 class Model {
@@ -59,8 +65,8 @@ class Model {
   // The tree's wide nodes (internal type, so held by pointer; shared so that Model stays copyable).
   std::shared_ptr<const query_detail::WideTree> wide_;
 
-  friend QueryResult collide(const Model&, const Pose&, const Model&, const Pose&, const QueryOptions&,
-                             QueryWorkspace&);
+  friend QueryResult scene_detail::collide_checked(const Model&, const Pose&, const Model&, const Pose&,
+                                                   const QueryOptions&, QueryWorkspace&);
 };
 
 /// How models are shared: by any number of scene objects and threads, never modified.

@@ -101,12 +101,16 @@ QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& 
 
 QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb, const QueryOptions& options,
                     QueryWorkspace& workspace) {
-  // The wide descent where it was measured faster than the binary one where meshes touch
-  // (docs/design-notes/query-core.md, "collide() on models"): all_pairs without a margin, solids
-  // and contacts added after it as collide() adds them; first_hit and margins stay on the binary
-  // trees.
   if (!is_valid_pose(pa)) require_valid_pose(pa, "collide", "the pose of model A");
   if (!is_valid_pose(pb)) require_valid_pose(pb, "collide", "the pose of model B");
+  return scene_detail::collide_checked(a, pa, b, pb, options, workspace);
+}
+
+// The wide descent where it was measured faster than the binary one where meshes touch
+// (docs/design-notes/query-core.md, "collide() on models"): all_pairs without a margin, solids and
+// contacts added after it as collide() adds them; first_hit and margins stay on the binary trees.
+QueryResult scene_detail::collide_checked(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
+                                          const QueryOptions& options, QueryWorkspace& workspace) {
   if (options.mode == QueryMode::all_pairs && options.descend == DescendRule::larger_volume &&
       options.margin == 0.0) {
     const QueryOptions o = with_closedness(a, b, options);

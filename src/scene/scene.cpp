@@ -338,7 +338,8 @@ struct ShapeModel {
 // The pair query of two scene objects, whichever kinds they are (scene.hpp, SceneObject).
 QueryResult pair_collide(const SceneObject& a, const SceneObject& b, const QueryOptions& options,
                          QueryWorkspace& workspace) {
-  if (a.model && b.model) return collide(*a.model, a.pose, *b.model, b.pose, options, workspace);
+  // The scene checked both poses when they were set (add, set_pose, set_poses, the query pose).
+  if (a.model && b.model) return scene_detail::collide_checked(*a.model, a.pose, *b.model, b.pose, options, workspace);
   if (options.contacts) throw InputError("scene collide: contacts are not available for shapes");
   QueryResult r;
   if (a.shape && b.shape) {

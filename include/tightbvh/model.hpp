@@ -26,7 +26,8 @@ struct WideTree;  // src/collide/wide_nodes.hpp: the query-time nodes, internal
 }
 class Model;
 namespace scene_detail {
-// collide() of two models whose poses the caller has checked (src/scene/model.cpp; the scenes).
+/// Internal: collide() of two models whose poses the caller has checked (the scenes, which check
+/// them when they are set); collide() on models checks them, then calls this.
 [[nodiscard]] QueryResult collide_checked(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
                                           const QueryOptions& options, QueryWorkspace& workspace);
 }  // namespace scene_detail

@@ -80,13 +80,14 @@ using ModelPtr = std::shared_ptr<const Model>;
 
 /// collide() (collide.hpp) of two posed models: the same answer. With options.solid, a null
 /// closed_a / closed_b is taken from the models (computed once at construction). InputError for
-/// a pose that is not finite or not a proper rotation (require_valid_pose, scene.hpp). all_pairs
-/// queries with margin 0 and the default descend rule (solid and contacts too) descend the
-/// models' wide nodes, four children per node in single precision with a proven
-/// outward allowance, rather than the binary trees: the same pairs, faster where the meshes touch
-/// (docs/design-notes/query-core.md, "collide() on models"); their stats count the
-/// box pairs that descent tests (one box of A against one child of B), so they differ from the
-/// binary descent's.
+/// a pose that is not finite or not a proper rotation (require_valid_pose, scene.hpp). Queries
+/// with the default descend rule (every mode and margin, solid and contacts too) descend the
+/// models' wide nodes, four children per node in single precision with a proven outward
+/// allowance, rather than the binary trees (docs/design-notes/query-core.md, "collide() on
+/// models"): all_pairs gives the same pairs and first_hit the same yes/no, though the one pair it
+/// reports may be another touching pair than the trees' collide() finds first; their stats count
+/// the box pairs that descent tests (one box of A against one child of B), so they differ from
+/// the binary descent's.
 [[nodiscard]] QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
                                   const QueryOptions& options = {});
 /// The same answer, with caller-owned scratch (no allocation per query).

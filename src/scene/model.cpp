@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <string>
 #include <utility>
 
 #include "../collide/contact_query.hpp"
@@ -106,27 +107,29 @@ QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& 
   return scene_detail::collide_checked(a, pa, b, pb, options, workspace);
 }
 
-// The wide descent where it was measured faster than the binary one where meshes touch
-// (docs/design-notes/query-core.md, "collide() on models"): all_pairs without a margin, solids and
-// contacts added after it as collide() adds them; first_hit and margins stay on the binary trees.
+// The wide descent in every mode and margin with the default descend rule, where it was measured
+// faster than the binary one in most scenarios (docs/design-notes/query-core.md, "collide() on
+// models" and "first_hit and margins on the wide nodes"); solids and contacts are added after it
+// as collide() adds them, after collide()'s own checks of the options.
 QueryResult scene_detail::collide_checked(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
                                           const QueryOptions& options, QueryWorkspace& workspace) {
-  if (options.mode == QueryMode::all_pairs && options.descend == DescendRule::larger_volume &&
-      options.margin == 0.0) {
-    const QueryOptions o = with_closedness(a, b, options);
-    std::optional<query_detail::SolidMeshes> solid;  // before the descent: an open mesh always throws
-    if (o.solid) solid.emplace("collide", a.mesh_, o.closed_a, b.mesh_, o.closed_b);
-    const Pose rel = relative_pose(pa, pb);
-    QueryResult result =
-        query_detail::collide_wide(a.tree_, *a.wide_, a.mesh_, b.tree_, *b.wide_, b.mesh_, rel, QueryMode::all_pairs);
-    if (o.contacts) query_detail::add_contacts(result, a.mesh_, pa, b.mesh_, pb);
-    if (solid && !result.hit) {  // no pair: is one solid inside the other?
-      result.inside = solid->overlap(a.tree_, a.mesh_, b.tree_, b.mesh_, rel).inside;
-      result.hit = result.inside != Inside::none;
-    }
-    return result;
+  if (options.descend != DescendRule::larger_volume)
+    return collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, with_closedness(a, b, options), workspace);
+  if (!(options.margin >= 0.0) || !std::isfinite(options.margin))
+    throw InputError("collide: margin must be finite and >= 0, got " + std::to_string(options.margin));
+  query_detail::check_contacts("collide", options);
+  const QueryOptions o = with_closedness(a, b, options);
+  std::optional<query_detail::SolidMeshes> solid;  // before the descent: an open mesh always throws
+  if (o.solid) solid.emplace("collide", a.mesh_, o.closed_a, b.mesh_, o.closed_b);
+  const Pose rel = relative_pose(pa, pb);
+  QueryResult result = query_detail::collide_wide(a.tree_, *a.wide_, a.mesh_, b.tree_, *b.wide_, b.mesh_, rel,
+                                                  o.mode, o.margin);
+  if (o.contacts) query_detail::add_contacts(result, a.mesh_, pa, b.mesh_, pb);
+  if (solid && !result.hit) {  // no pair: is one solid inside the other?
+    result.inside = solid->overlap(a.tree_, a.mesh_, b.tree_, b.mesh_, rel).inside;
+    result.hit = result.inside != Inside::none;
   }
-  return collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, with_closedness(a, b, options), workspace);
+  return result;
 }
 
 DistanceResult distance(const Model& a, const Pose& pa, const Model& b, const Pose& pb,

@@ -1,6 +1,7 @@
 // Model: built once, shared; the model overloads answer as the low-level pair queries.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 #include <random>
 
@@ -59,15 +60,23 @@ TEST(Model, PairQueriesEqualTheLowLevelCalls) {
     EXPECT_EQ(r.pairs, low.pairs);
     EXPECT_GE(r.stats.triangle_tests, r.pairs.size());
     hits += r.hit;
-    // The other modes run the binary descent: the same stats too.
-    for (const QueryOptions& o : {QueryOptions{.mode = QueryMode::first_hit},
-                                  QueryOptions{.mode = QueryMode::all_pairs, .margin = 0.01},
-                                  QueryOptions{.mode = QueryMode::all_pairs, .descend = DescendRule::larger_extent}}) {
-      const QueryResult m = collide(a, pa, b, pb, o);
-      const QueryResult ml = collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, o);
-      EXPECT_EQ(m.pairs, ml.pairs);
-      EXPECT_EQ(m.stats, ml.stats);
-    }
+    // first_hit descends the wide nodes too: the same yes/no, and its pair is a touching one.
+    const QueryResult first = collide(a, pa, b, pb, {.mode = QueryMode::first_hit});
+    EXPECT_EQ(first.hit, low.hit);
+    ASSERT_EQ(first.pairs.size(), first.hit ? 1u : 0u);
+    if (first.hit) EXPECT_TRUE(std::binary_search(low.pairs.begin(), low.pairs.end(), first.pairs[0]));
+    // So do margins: the pairs within the margin, and first_hit's yes/no.
+    const QueryOptions near{.mode = QueryMode::all_pairs, .margin = 0.01};
+    const QueryResult within = collide(a, pa, b, pb, near);
+    const QueryResult within_low = collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, near);
+    EXPECT_EQ(within.pairs, within_low.pairs);
+    EXPECT_EQ(collide(a, pa, b, pb, {.mode = QueryMode::first_hit, .margin = 0.01}).hit, within_low.hit);
+    // Another descend rule runs the binary descent: the same stats too.
+    const QueryOptions extent{.mode = QueryMode::all_pairs, .descend = DescendRule::larger_extent};
+    const QueryResult e = collide(a, pa, b, pb, extent);
+    const QueryResult el = collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, extent);
+    EXPECT_EQ(e.pairs, el.pairs);
+    EXPECT_EQ(e.stats, el.stats);
     const DistanceResult d = distance(a, pa, b, pb);
     const DistanceResult dl = distance(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb);
     EXPECT_EQ(d.distance, dl.distance);
@@ -77,8 +86,8 @@ TEST(Model, PairQueriesEqualTheLowLevelCalls) {
   EXPECT_LT(hits, 55);
 }
 
-// Whole shipped meshes, many of them touching: the wide descent reports the binary descent's pairs.
-TEST(Model, AllPairsOnShippedMeshesEqualTheTreesPairs) {
+// Whole shipped meshes, many of them touching: the wide descent gives the binary descent's answers.
+TEST(Model, ShippedMeshesGiveTheTreesAnswersInEveryMode) {
   const ModelPtr knot = make_model(query_test::shipped("meshes/knot1.off"));
   const ModelPtr elephant = make_model(query_test::shipped("meshes/elephant.off"));
   const Obb& kb = knot->bounds();
@@ -97,6 +106,17 @@ TEST(Model, AllPairsOnShippedMeshesEqualTheTreesPairs) {
     EXPECT_EQ(r.pairs, low.pairs) << "trial " << trial;
     EXPECT_EQ(r.hit, !r.pairs.empty());
     touching += r.hit;
+    const QueryResult first = collide(*knot, Pose{}, *elephant, pb, {.mode = QueryMode::first_hit});
+    EXPECT_EQ(first.hit, r.hit) << "trial " << trial;
+    if (first.hit) EXPECT_TRUE(std::binary_search(r.pairs.begin(), r.pairs.end(), first.pairs.at(0)));
+    // A margin of 0.5% of the size: more pairs than touch, the same set as the trees'.
+    const QueryOptions within{.mode = QueryMode::all_pairs, .margin = 0.005 * reach};
+    const QueryResult w = collide(*knot, Pose{}, *elephant, pb, within);
+    EXPECT_EQ(w.pairs, collide(knot->tree(), knot->mesh(), Pose{}, elephant->tree(), elephant->mesh(), pb, within).pairs)
+        << "trial " << trial;
+    EXPECT_GE(w.pairs.size(), r.pairs.size());
+    EXPECT_EQ(collide(*knot, Pose{}, *elephant, pb, {.mode = QueryMode::first_hit, .margin = 0.005 * reach}).hit,
+              !w.pairs.empty());
     // Solids and contacts are added after the wide descent as collide() adds them.
     const QueryOptions more{.mode = QueryMode::all_pairs, .solid = true, .contacts = true};
     const QueryResult m = collide(*knot, Pose{}, *elephant, pb, more);

@@ -2,6 +2,7 @@
 // of two meshes, then runs collide() on every pose of a pose file (tightbvh-bench --write-poses)
 // and prints the totals, a hash of every answer (hit, pairs, box and triangle tests), so that two
 // builds can be compared for identical results, and the queries' thread CPU time (REPEATS passes).
+// With `models`, the queries are collide() on two Models (the wide descent) instead of the trees.
 // Only run_queries() is meant to be counted:
 //   valgrind --tool=callgrind --toggle-collect='*run_queries*' \
 //       build/bin/tightbvh-collide-poses meshes/elephant.off meshes/knot1.off poses.txt approx first_hit
@@ -16,6 +17,7 @@
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
 #include "tightbvh/mesh.hpp"
+#include "tightbvh/model.hpp"
 #include "tightbvh/pose_text.hpp"
 
 namespace {
@@ -40,11 +42,14 @@ struct Totals {
 
 [[gnu::noinline]] Totals run_queries(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& mb,
                                      const std::vector<Pose>& poses, QueryMode mode, int repeats,
-                                     QueryWorkspace& workspace) {
+                                     QueryWorkspace& workspace, const Model* model_a, const Model* model_b) {
   Totals t;
   for (int r = 0; r < repeats; ++r)
     for (const Pose& p : poses) {
-      const QueryResult q = collide(ta, ma, Pose::identity(), tb, mb, p, {.mode = mode}, workspace);
+      const QueryOptions options{.mode = mode};
+      const QueryResult q = model_a != nullptr
+                                ? collide(*model_a, Pose::identity(), *model_b, p, options, workspace)
+                                : collide(ta, ma, Pose::identity(), tb, mb, p, options, workspace);
       t.hits += q.hit;
       t.pairs += q.pairs.size();
       t.box_tests += q.stats.box_tests;
@@ -61,7 +66,7 @@ struct Totals {
 
 int main(int argc, char** argv) try {
   if (argc < 6) {
-    std::fprintf(stderr, "usage: %s MESH_A MESH_B POSES FITTER first_hit|all_pairs [REPEATS]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s MESH_A MESH_B POSES FITTER first_hit|all_pairs [REPEATS [trees|models]]\n", argv[0]);
     return 2;
   }
   const Mesh ma = load_mesh(argv[1]), mb = load_mesh(argv[2]);
@@ -75,6 +80,11 @@ int main(int argc, char** argv) try {
   options.fitter = *fitter;
   options.threads = 1;
   const Tree ta = build(ma, options), tb = build(mb, options);
+  const std::string target = argc > 7 ? argv[7] : "trees";
+  if (target != "trees" && target != "models") throw InputError("expected trees or models, got " + target);
+  const Model model_a(ma, ta), model_b(mb, tb);
+  const Model* pa = target == "models" ? &model_a : nullptr;
+  const Model* pb = target == "models" ? &model_b : nullptr;
   QueryWorkspace workspace;  // grown by one query first, so that only the queries are counted
   if (!poses.empty()) (void)collide(ta, ma, Pose::identity(), tb, mb, poses[0], {.mode = mode}, workspace);
   const auto cpu = [] {
@@ -83,7 +93,7 @@ int main(int argc, char** argv) try {
     return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
   };
   const double start = cpu();
-  const Totals t = run_queries(ta, ma, tb, mb, poses, mode, repeats, workspace);
+  const Totals t = run_queries(ta, ma, tb, mb, poses, mode, repeats, workspace, pa, pb);
   const double seconds = cpu() - start;
   std::printf("poses %zu mode %s hits %llu pairs %llu box_tests %llu triangle_tests %llu hash %016llx cpu_s %.4f\n",
               poses.size(), mode_name.c_str(), (unsigned long long)t.hits, (unsigned long long)t.pairs,

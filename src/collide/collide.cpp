@@ -128,11 +128,6 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
   result.stats.triangle_tests += triangle_tests;
 }
 
-void check_margin(double margin) {
-  if (!(margin >= 0.0) || !std::isfinite(margin))
-    throw InputError("collide: margin must be finite and >= 0, got " + std::to_string(margin));
-}
-
 void finish(QueryResult& result) {
   std::sort(result.pairs.begin(), result.pairs.end());
   result.pairs.erase(std::unique(result.pairs.begin(), result.pairs.end()), result.pairs.end());
@@ -170,7 +165,7 @@ QueryResult collide_with(const Tree& a, const Mesh& ma, const Pose& pa, const Tr
   if (a.nodes.empty() || b.nodes.empty()) return result;
   query_detail::check_tree_fits_mesh("collide", a, ma, "A");
   query_detail::check_tree_fits_mesh("collide", b, mb, "B");
-  check_margin(options.margin);
+  query_detail::check_margin("collide", options.margin);
   query_detail::check_contacts("collide", options);
   std::optional<query_detail::SolidMeshes> solid;  // checked before the descent: open meshes always throw
   if (options.solid) solid.emplace("collide", ma, options.closed_a, mb, options.closed_b);
@@ -265,7 +260,7 @@ std::vector<QueryResult> collide_batch(const Tree& a, const Mesh& ma, const Pose
 
 QueryResult collide_brute_force(const Mesh& ma, const Pose& pa, const Mesh& mb, const Pose& pb,
                                 const QueryOptions& options) {
-  check_margin(options.margin);
+  query_detail::check_margin("collide", options.margin);
   query_detail::check_contacts("collide_brute_force", options);
   std::optional<query_detail::SolidMeshes> solid;
   if (options.solid) solid.emplace("collide_brute_force", ma, options.closed_a, mb, options.closed_b);

@@ -2,6 +2,7 @@
 // Internal: what the tree-vs-tree queries (collide.cpp, distance.cpp) must compute identically.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -77,6 +78,12 @@ inline void check_tree_fits_mesh(const char* query, const Tree& tree, const Mesh
     throw InputError(std::string(query) + ": tree " + which + " was built over " +
                      std::to_string(tree.triangle_order.size()) + " triangles but mesh " + which + " has " +
                      std::to_string(mesh.triangles.size()));
+}
+
+// The margin every collide query takes: finite and >= 0, else an InputError naming the query.
+inline void check_margin(const char* query, double margin) {
+  if (!(margin >= 0.0) || !std::isfinite(margin))
+    throw InputError(std::string(query) + ": margin must be finite and >= 0, got " + std::to_string(margin));
 }
 
 // The safety-margin predicate of collide() and collide_brute_force() (margin > 0): the exact

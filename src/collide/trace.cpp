@@ -49,8 +49,7 @@ CollideTrace collide_trace(const Tree& ta, const Mesh& ma, const Pose& pa, const
   if (ta.nodes.empty() || tb.nodes.empty()) return trace;
   check_tree_fits_mesh("collide", ta, ma, "A");
   check_tree_fits_mesh("collide", tb, mb, "B");
-  if (!(options.margin >= 0.0) || !std::isfinite(options.margin))
-    throw InputError("collide: margin must be finite and >= 0, got " + std::to_string(options.margin));
+  check_margin("collide", options.margin);
   const bool first_hit = options.mode == QueryMode::first_hit;
   const bool with_margin = options.margin != 0.0;
   const Pose rel = relative_pose(pa, pb);

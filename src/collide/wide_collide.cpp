@@ -450,8 +450,7 @@ QueryResult collide_wide(const Tree& ta, const WideTree& wa, const Mesh& ma, con
                          const Mesh& mb, const Pose& rel, QueryMode mode, double margin, WideCounters* counters,
                          bool swap) {
   QueryResult result;
-  if (!(margin >= 0.0) || !std::isfinite(margin))
-    throw InputError("collide_wide: margin must be finite and >= 0, got " + std::to_string(margin));
+  check_margin("collide_wide", margin);
   if (wa.nodes.empty() || wb.nodes.empty()) return result;
   check_tree_fits_mesh("collide_wide", ta, ma, "A");
   check_tree_fits_mesh("collide_wide", tb, mb, "B");

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <string>
 #include <utility>
 
 #include "../collide/contact_query.hpp"
+#include "../collide/query_common.hpp"
 #include "../collide/solid.hpp"
 #include "../collide/wide_collide.hpp"
 #include "../collide/wide_nodes.hpp"
@@ -115,8 +115,7 @@ QueryResult scene_detail::collide_checked(const Model& a, const Pose& pa, const 
                                           const QueryOptions& options, QueryWorkspace& workspace) {
   if (options.descend != DescendRule::larger_volume)
     return collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, with_closedness(a, b, options), workspace);
-  if (!(options.margin >= 0.0) || !std::isfinite(options.margin))
-    throw InputError("collide: margin must be finite and >= 0, got " + std::to_string(options.margin));
+  query_detail::check_margin("collide", options.margin);
   query_detail::check_contacts("collide", options);
   const QueryOptions o = with_closedness(a, b, options);
   std::optional<query_detail::SolidMeshes> solid;  // before the descent: an open mesh always throws

@@ -468,7 +468,7 @@ const WideRecorded& wide_recorded(int scenario) {
       stack.pop_back();
       const WideNode& na = rec.wa.nodes[p.na];
       const WideNode& nb = rec.wb.nodes[p.nb];
-      const bool a_internal = na.count[p.la] == 0, b_internal = nb.count[p.lb] == 0;
+      const bool a_internal = na.child[p.la] > 0, b_internal = nb.child[p.lb] > 0;
       if (!a_internal && !b_internal) continue;  // a leaf pair
       const Vec3 ca = child_ref(p.ra, na, p.la), cb = child_ref(p.rb, nb, p.lb);
       if (b_internal && (!a_internal || lane_volume(nb, p.lb) >= lane_volume(na, p.la))) {

@@ -225,10 +225,11 @@ struct Descent {
   float base_add = 0.0f;  // up(2 err) of descent_bounds: a forward box's base is its core plus this
   double margin = 0.0;    // > 0: the leaves report pairs within it (within_margin), as collide() does
 
-  // The triangle pairs of A's leaf (ca, na) and B's leaf (cb, nb) (child references and counts),
+  // The triangle pairs of A's leaf ca and B's leaf cb (child references),
   // in collide()'s order: B's triangles mapped into A's frame a chunk at a time. True: stop.
-  bool leaves(std::int32_t ca, std::uint32_t na, std::int32_t cb, std::uint32_t nb) {
-    const auto fa = static_cast<std::uint32_t>(~ca), fb = static_cast<std::uint32_t>(~cb);
+  bool leaves(std::int32_t ca, std::int32_t cb) {
+    const auto [fa, na] = wa.leaf(ca);
+    const auto [fb, nb] = wb.leaf(cb);
     for (std::uint32_t c = 0; c < nb; c += kLeafChunk) {
       const std::uint32_t n = std::min(kLeafChunk, nb - c);
       for (std::uint32_t j = 0; j < n; ++j) {
@@ -266,7 +267,6 @@ struct Descent {
   bool visit(const DescentBox& x, std::int32_t nb, unsigned kept) {
     const WideNode& n = wb.nodes[static_cast<std::size_t>(nb)];
     const std::int32_t a_child = x.node().child[x.lane];
-    const std::uint32_t a_count = x.node().count[x.lane];
     const float a_volume = x.hn->volume[x.lane];
     unsigned down_a = 0;  // lanes of n met by the children of x
     DescentBox moved[kWideLanes];
@@ -274,16 +274,16 @@ struct Descent {
     int moves = 0;
     for (unsigned m = kept; m != 0; m &= m - 1) {
       const int lane = std::countr_zero(m);
-      if (n.count[lane] > 0) {  // a leaf of B
-        if (a_count > 0) {
-          if (leaves(a_child, a_count, n.child[lane], n.count[lane])) return true;
+      if (n.child[lane] < 0) {  // a leaf of B
+        if (a_child < 0) {
+          if (leaves(a_child, n.child[lane])) return true;
         } else {
           down_a |= 1u << lane;
         }
         continue;
       }
       const float volume = n.half[0][lane] * n.half[1][lane] * n.half[2][lane];
-      if (a_count > 0 || volume >= a_volume) {
+      if (a_child < 0 || volume >= a_volume) {
         next[moves] = n.child[lane];
         moved[moves] = x;
         move_b_fast(moved[moves], n, lane, f.r0);

@@ -14,23 +14,22 @@ namespace tightbvh::query_detail {
 
 inline constexpr int kWideLanes = 4;
 
-/// One node: up to four child boxes in lanes (wide_nodes.hpp's file comment describes them).
-struct alignas(16) WideNode {
-  float axes[9][kWideLanes];        // axes[3 * i + k][lane]: component k of the child's axis i
-  float center[3][kWideLanes];      // the child's center minus the node's ref
-  float half[3][kWideLanes];        // half extents, widened (widen_box); empty lane: kEmptyHalf
-  std::int32_t child[kWideLanes];   // >= 0: wide node; < 0: leaf ~first; empty lane: 0
-  std::uint32_t count[kWideLanes];  // leaf: its triangles (> 0); internal or empty: 0
+/// One node: up to four child boxes in lanes (wide_nodes.hpp's file comment describes them), in
+/// four cache lines.
+struct alignas(64) WideNode {
+  float axes[9][kWideLanes];       // axes[3 * i + k][lane]: component k of the child's axis i
+  float center[3][kWideLanes];     // the child's center minus the node's ref
+  float half[3][kWideLanes];       // half extents, widened (widen_box); empty lane: kEmptyHalf
+  std::int32_t child[kWideLanes];  // > 0: wide node; < 0: leaf (WideTree::leaf); 0: empty lane
 };
+static_assert(sizeof(WideNode) == 256, "a wide node is four cache lines");
 
 // An empty lane's half extents: a box of negative size, which every axis separates from anything
 // (its projected radius is hugely negative), so the kernel needs no lane mask. The root is never a
-// child, so child == 0 with count == 0 marks an empty lane unambiguously.
+// child, so child == 0 marks an empty lane unambiguously.
 inline constexpr float kEmptyHalf = -1e30f;
 
-[[nodiscard]] inline bool is_empty_lane(const WideNode& n, int lane) {
-  return n.child[lane] == 0 && n.count[lane] == 0;
-}
+[[nodiscard]] inline bool is_empty_lane(const WideNode& n, int lane) { return n.child[lane] == 0; }
 
 /// One box of A hoisted for the four children of a node of B: M = A^T R0 (in float), B's node ref
 /// in A's box frame (tn = A^T d, d = t - ca) and the lane-independent part of the allowance.

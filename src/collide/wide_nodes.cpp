@@ -121,7 +121,6 @@ WideNode empty_node() {
       n.half[k][lane] = kEmptyHalf;
     }
     n.child[lane] = 0;
-    n.count[lane] = 0;
   }
   return n;
 }
@@ -141,28 +140,63 @@ double offset_norm(const WideNode& n, int lane) {
          (1.0 + 0x1p-50);
 }
 
-std::int32_t leaf_ref(const Node& leaf) {
-  if (leaf.first > static_cast<std::uint32_t>(std::numeric_limits<std::int32_t>::max()))
-    throw InputError("wide nodes: more than 2^31 triangles");
-  return ~static_cast<std::int32_t>(leaf.first);
-}
-
 struct Builder {
   const Tree& tree;
   WideTree& out;
   std::vector<std::uint32_t>* sources;
+  std::uint64_t max_count;  // the most triangles one leaf reference holds: 2^leaf_bits
 
-  // The wide node of binary internal node `bi` whose ref is `ref`: starting from bi's two
-  // children, the internal child with the largest box is replaced by its two children until there
-  // are four (or only leaves): a node is full wherever the tree is deep enough, which halves the
-  // node count against taking two levels as they come. Returns its index.
-  // `depth` counts the nodes above it, `path` sums |c|_1 of the offsets that lead to it.
-  std::int32_t make(std::uint32_t bi, const Vec3& ref, int depth, double path) {
-    const Node& n = tree.nodes[bi];
+  // A new node (all lanes empty) whose ref is `ref`; `depth` counts the nodes above it, `path`
+  // sums |c|_1 of the offsets that lead to it. Returns its index.
+  std::int32_t open(const Vec3& ref, int depth, double path) {
     out.ref_bound = std::max(out.ref_bound, std::abs(ref[0]) + std::abs(ref[1]) + std::abs(ref[2]));
     out.depth = std::max(out.depth, depth);
     out.path_bound = std::max(out.path_bound, path);
     out.spread = std::max(out.spread, (ref - out.root_ref).lpNorm<1>() * (1.0 + 0x1p-50));
+    const auto index = static_cast<std::int32_t>(out.nodes.size());
+    out.nodes.push_back(empty_node());
+    if (sources) sources->insert(sources->end(), {0u, 0u, 0u, 0u});
+    return index;
+  }
+
+  // Lane `lane` of node `index` (ref `ref`) gets the box of tree node `source`.
+  void fill(std::int32_t index, int lane, const Vec3& ref, std::uint32_t source) {
+    WideNode& n = out.nodes[static_cast<std::size_t>(index)];
+    set_lane(n, lane, widen_box(tree.nodes[source].box, ref, out.eta));
+    out.reach_bound = std::max(out.reach_bound, reach(n, lane, ref));
+    out.offset_bound = std::max(out.offset_bound, offset_norm(n, lane));
+    if (sources) (*sources)[4 * static_cast<std::size_t>(index) + lane] = source;
+  }
+
+  // The child reference of triangles [first, first + count) of leaf `source`, whose box is in lane
+  // `lane` of node `index` (ref `ref`, `depth`, `path` as in open). More triangles than one
+  // reference holds go to a node below that lane with the same box in up to four lanes, each
+  // holding a part of them (the same triangle pairs, a few more box tests).
+  std::int32_t leaf(std::int32_t index, int lane, const Vec3& ref, int depth, double path, std::uint32_t source,
+                    std::uint32_t first, std::uint32_t count) {
+    if (count <= max_count) return ~static_cast<std::int32_t>(first << out.leaf_bits | (count - 1u));
+    const WideNode& n = out.nodes[static_cast<std::size_t>(index)];
+    const Vec3 ref_c = child_ref(ref, n, lane);
+    const double path_c = path + offset_norm(n, lane);
+    const std::int32_t c = open(ref_c, depth + 1, path_c);
+    const std::uint64_t parts = std::min<std::uint64_t>(4, (count + max_count - 1) / max_count);
+    std::uint32_t done = 0;
+    for (int p = 0; p < static_cast<int>(parts); ++p) {
+      const auto part = static_cast<std::uint32_t>((static_cast<std::uint64_t>(count) * (p + 1)) / parts) - done;
+      fill(c, p, ref_c, source);
+      const std::int32_t r = leaf(c, p, ref_c, depth + 1, path_c, source, first + done, part);
+      out.nodes[static_cast<std::size_t>(c)].child[p] = r;
+      done += part;
+    }
+    return c;
+  }
+
+  // The wide node of binary internal node `bi` whose ref is `ref` (depth and path as in open):
+  // starting from bi's two children, the internal child with the largest box is replaced by its
+  // two children until there are four (or only leaves): a node is full wherever the tree is deep
+  // enough, which halves the node count against taking two levels as they come. Returns its index.
+  std::int32_t make(std::uint32_t bi, const Vec3& ref, int depth, double path) {
+    const Node& n = tree.nodes[bi];
     std::uint32_t kids[4] = {n.first, n.first + 1, 0, 0};
     int count = 2;
     while (count < 4) {
@@ -180,52 +214,49 @@ struct Builder {
       kids[widest] = first;
       kids[count++] = first + 1;
     }
-    const auto index = static_cast<std::int32_t>(out.nodes.size());
-    out.nodes.push_back(empty_node());
-    if (sources) sources->insert(sources->end(), {0u, 0u, 0u, 0u});
+    const std::int32_t index = open(ref, depth, path);
+    for (int lane = 0; lane < count; ++lane) fill(index, lane, ref, kids[lane]);
     for (int lane = 0; lane < count; ++lane) {
       const Node& g = tree.nodes[kids[lane]];
-      set_lane(out.nodes[index], lane, widen_box(g.box, ref, out.eta));
-      out.reach_bound = std::max(out.reach_bound, reach(out.nodes[index], lane, ref));
-      out.offset_bound = std::max(out.offset_bound, offset_norm(out.nodes[index], lane));
-      if (sources) (*sources)[4 * static_cast<std::size_t>(index) + lane] = kids[lane];
-      if (g.is_leaf()) {
-        out.nodes[index].child[lane] = leaf_ref(g);
-        out.nodes[index].count[lane] = g.count;
-      }
-    }
-    for (int lane = 0; lane < count; ++lane) {
-      const Node& g = tree.nodes[kids[lane]];
-      if (g.is_leaf()) continue;
-      const std::int32_t c = make(kids[lane], child_ref(ref, out.nodes[index], lane), depth + 1,
-                                  path + offset_norm(out.nodes[index], lane));
-      out.nodes[index].child[lane] = c;
+      const std::int32_t c =
+          g.is_leaf() ? leaf(index, lane, ref, depth, path, kids[lane], g.first, g.count)
+                      : make(kids[lane], child_ref(ref, out.nodes[static_cast<std::size_t>(index)], lane), depth + 1,
+                             path + offset_norm(out.nodes[static_cast<std::size_t>(index)], lane));
+      out.nodes[static_cast<std::size_t>(index)].child[lane] = c;
     }
     return index;
   }
 };
 
+// The fewest bits that hold v (0 for 0).
+int bits_for(std::uint64_t v) { return static_cast<int>(std::bit_width(v)); }
+
 }  // namespace
 
-WideTree build_wide(const Tree& tree, std::vector<std::uint32_t>* sources) {
+WideTree build_wide(const Tree& tree, std::vector<std::uint32_t>* sources, int max_leaf_bits) {
   WideTree out;
   if (tree.nodes.empty()) return out;
   if (sources) sources->clear();
+  // Leaf references pack first << leaf_bits | (count - 1) into 31 bits.
+  const std::size_t triangles = tree.triangle_order.size();
+  const int first_bits = triangles == 0 ? 0 : bits_for(triangles - 1);
+  if (first_bits > 31) throw InputError("wide nodes: more than 2^31 triangles");
+  std::uint32_t largest = 1;
+  for (const Node& n : tree.nodes)
+    if (n.is_leaf()) largest = std::max(largest, n.count);
+  out.leaf_bits = std::min({bits_for(largest - 1u), 31 - first_bits, std::clamp(max_leaf_bits, 0, 31)});
+  Builder builder{tree, out, sources, std::uint64_t{1} << out.leaf_bits};
   const Node& root = tree.nodes[0];
   out.root_ref = root.box.center_d();
   out.ref_bound = std::abs(out.root_ref[0]) + std::abs(out.root_ref[1]) + std::abs(out.root_ref[2]);
   if (root.is_leaf()) {
-    out.nodes.push_back(empty_node());
-    set_lane(out.nodes[0], 0, widen_box(root.box, out.root_ref, out.eta));
-    out.reach_bound = reach(out.nodes[0], 0, out.root_ref);
-    out.offset_bound = offset_norm(out.nodes[0], 0);
-    out.nodes[0].child[0] = leaf_ref(root);
-    out.nodes[0].count[0] = root.count;
-    if (sources) sources->insert(sources->end(), {0u, 0u, 0u, 0u});
+    builder.open(out.root_ref, 0, 0.0);
+    builder.fill(0, 0, out.root_ref, 0);
+    out.nodes[0].child[0] = builder.leaf(0, 0, out.root_ref, 0, 0.0, 0, root.first, root.count);
     return out;
   }
   out.nodes.reserve(tree.nodes.size() / 3 + 1);
-  Builder{tree, out, sources}.make(0, out.root_ref, 0, 0.0);
+  builder.make(0, out.root_ref, 0, 0.0);
   return out;
 }
 

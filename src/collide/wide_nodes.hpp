@@ -6,8 +6,9 @@
 // node of B from contiguous loads (the W-wide nodes of Embree's BVH4 and Jolt's quad-tree). It is
 // built from a binary Tree by collapsing levels: a node's children are its binary descendants
 // found by opening the largest internal box until there are four (build_wide). A child reference
-// >= 0 names a wide node; < 0 is a leaf,
-// ~first into Tree::triangle_order with `count` triangles, so no leaf lookup sits in the descent.
+// > 0 names a wide node; < 0 is a leaf whose triangles' range in Tree::triangle_order is packed
+// into the reference (WideTree::leaf), so no leaf lookup sits in the descent and a node is 256
+// bytes, four cache lines; 0 is an empty lane.
 //
 // Coordinates. Each node has a reference point `ref` (double, in the mesh frame), and its
 // children's centers are stored relative to it, so the float offsets stay small far from the
@@ -48,7 +49,16 @@ namespace tightbvh::query_detail {
 /// A tree in wide nodes; nodes[0] is the root (a root that is itself a leaf gets a node with that
 /// one leaf as its only child).
 struct WideTree {
+  /// A leaf's triangles: triangle_order[first, first + count).
+  struct LeafRange {
+    std::uint32_t first;
+    std::uint32_t count;
+  };
   std::vector<WideNode> nodes;
+  // A leaf's reference is ~v with v = first << leaf_bits | (count - 1): leaf_bits is the fewest
+  // bits that hold the largest leaf's count - 1, unless the first indices need them (then larger
+  // leaves are split over lanes holding the same box: build_wide).
+  int leaf_bits = 0;
   Vec3 root_ref = Vec3::Zero();  // ref of nodes[0]
   double eta = 0.0;              // max |a_i . a_k - delta_ik| over every stored box's float axes (a bound)
   double ref_bound = 0.0;        // >= |ref|_1 of every node: bounds the rounding of child_ref
@@ -58,6 +68,12 @@ struct WideTree {
   double path_bound = 0.0;    // >= the sum of |c|_1 over the offsets leading to any node
   double spread = 0.0;        // >= |ref - root_ref|_1 of every node
   double offset_bound = 0.0;  // >= |c|_1 of every stored box's offset
+
+  /// The triangles of the leaf whose child reference is `ref` (< 0).
+  [[nodiscard]] LeafRange leaf(std::int32_t ref) const {
+    const auto v = static_cast<std::uint32_t>(~ref);
+    return {v >> leaf_bits, (v & ((1u << leaf_bits) - 1u)) + 1u};
+  }
 };
 
 // The ref of child `lane` of a node whose ref is `ref` (the builder and the descent alike).
@@ -93,7 +109,9 @@ struct WideBox {
 
 /// The wide tree of `tree` (empty for an empty tree). `sources`, when given, gets for each lane
 /// (4 per node) the index of the Tree node whose box it holds (0 for an empty lane).
-[[nodiscard]] WideTree build_wide(const Tree& tree, std::vector<std::uint32_t>* sources = nullptr);
+/// `max_leaf_bits` caps leaf_bits (tests use it to exercise the split of large leaves).
+[[nodiscard]] WideTree build_wide(const Tree& tree, std::vector<std::uint32_t>* sources = nullptr,
+                                  int max_leaf_bits = 31);
 
 /// Bytes of wide nodes per triangle of `tree`'s mesh (the node array only).
 [[nodiscard]] double wide_bytes_per_triangle(const WideTree& wide, std::size_t triangles);

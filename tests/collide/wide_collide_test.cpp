@@ -192,6 +192,46 @@ TEST(WideCollide, SamePairsAsBruteForceOnSmallMeshes) {
   EXPECT_GE(hits, 24);
 }
 
+// Leaves of several triangles: their references pack the count (leaf_bits), and leaves larger than
+// a reference holds are split over lanes of a node below (build_wide's max_leaf_bits forces that
+// here). Every triangle is in exactly one leaf reference, and the pairs are brute force's.
+TEST(WideCollide, LargeLeavesPackedAndSplit) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int hits = 0, split_nodes = 0;
+  for (int round = 0; round < 4; ++round) {
+    const Mesh ma = soup(rng, 150, 0.12), mb = soup(rng, 110, 0.15);
+    const Tree ta = build(ma, {.leaf_size = 7}), tb = build(mb, {.leaf_size = 5});
+    for (const int max_bits : {31, 1, 0}) {
+      const WideTree wa = build_wide(ta, nullptr, max_bits), wb = build_wide(tb, nullptr, max_bits);
+      EXPECT_LE(wa.leaf_bits, max_bits);
+      for (const auto* w : {&wa, &wb}) {  // each triangle in one leaf reference
+        std::vector<int> seen(w == &wa ? ma.triangles.size() : mb.triangles.size(), 0);
+        for (const WideNode& n : w->nodes)
+          for (int lane = 0; lane < kWideLanes; ++lane) {
+            if (n.child[lane] >= 0) continue;
+            const WideTree::LeafRange leaf = w->leaf(n.child[lane]);
+            EXPECT_LE(leaf.count, 1u << w->leaf_bits);
+            const Tree& t = w == &wa ? ta : tb;
+            for (std::uint32_t k = 0; k < leaf.count; ++k) ++seen[t.triangle_order[leaf.first + k]];
+          }
+        EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int c) { return c == 1; })) << "bits " << max_bits;
+      }
+      if (max_bits == 0) split_nodes += static_cast<int>(wa.nodes.size()) - static_cast<int>(build_wide(ta).nodes.size());
+      for (int p = 0; p < 3; ++p) {
+        const Pose rel{random_rotation(rng), Vec3(0.5, 0.5, 0.5) + 0.4 * Vec3(unit(rng), unit(rng), unit(rng))};
+        const QueryResult brute = collide_brute_force(ma, Pose::identity(), mb, rel, {.mode = QueryMode::all_pairs});
+        const QueryResult wide = collide_wide(ta, wa, ma, tb, wb, mb, rel, QueryMode::all_pairs);
+        EXPECT_EQ(wide.pairs, brute.pairs) << "round " << round << " bits " << max_bits << " pose " << p;
+        EXPECT_EQ(collide_wide(ta, wa, ma, tb, wb, mb, rel, QueryMode::first_hit).hit, brute.hit);
+        hits += brute.hit;
+      }
+    }
+  }
+  EXPECT_GT(split_nodes, 0);  // max_leaf_bits 0 did split leaves
+  EXPECT_GE(hits, 12);
+}
+
 // The descent's float steps stay within their error bounds (wide_collide.cpp's derivation): along
 // random walks down knot1 and fandisk (at the origin and 1e5 away, random poses), moving B's node
 // (move_b), opening A's box (move_a, fresh), B's ref in A's node frame (t) and in A's box frame
@@ -286,8 +326,8 @@ TEST(WideCollide, MovedReferencePointsWithinTheirBounds) {
         }
         int b_lanes[kWideLanes], nbl = 0;
         for (int l = 0; l < kWideLanes; ++l)
-          if (!is_empty_lane(n, l) && n.count[l] == 0) b_lanes[nbl++] = l;
-        const bool a_open = x.node().count[x.lane] == 0;
+          if (n.child[l] > 0) b_lanes[nbl++] = l;
+        const bool a_open = x.node().child[x.lane] > 0;
         if (nbl == 0 && !a_open) break;
         if (nbl > 0 && (!a_open || unit(rng) < 0.6)) {  // B's side
           const int lane = b_lanes[std::uniform_int_distribution<int>(0, nbl - 1)(rng)];

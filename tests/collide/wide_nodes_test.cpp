@@ -247,11 +247,11 @@ TEST(WideNodes, TreeStructureAndMemory) {
         const WideNode& n = wide.nodes[i];
         if (is_empty_lane(n, lane)) continue;
         const Node& src = tree.nodes[sources[4 * i + lane]];
-        if (n.count[lane] > 0) {
-          ASSERT_LT(n.child[lane], 0);
-          EXPECT_EQ(static_cast<std::uint32_t>(~n.child[lane]), src.first);
-          EXPECT_EQ(n.count[lane], src.count);
-          for (std::uint32_t k = 0; k < n.count[lane]; ++k) ++seen[tree.triangle_order[src.first + k]];
+        if (n.child[lane] < 0) {
+          const WideTree::LeafRange leaf = wide.leaf(n.child[lane]);
+          EXPECT_EQ(leaf.first, src.first);
+          EXPECT_EQ(leaf.count, src.count);
+          for (std::uint32_t k = 0; k < leaf.count; ++k) ++seen[tree.triangle_order[leaf.first + k]];
         } else {
           ASSERT_GT(n.child[lane], 0);
           ++internal;
@@ -340,7 +340,7 @@ TEST(WideNodes, KeepsEveryRealNodePairTheDoubleTestKeeps) {
             ADD_FAILURE() << "pose " << pose << ": a pair the double test keeps was culled";
           if (!fl) continue;
           // Descend: B's child j against A's box, and A's children against B's child j.
-          const bool a_internal = na.count[it.lane] == 0, b_internal = nb.count[j] == 0;
+          const bool a_internal = na.child[it.lane] > 0, b_internal = nb.child[j] > 0;
           if (b_internal) stack.push_back({it.na, it.lane, nb.child[j], it.ref_a, child_ref(it.ref_b, nb, j)});
           if (a_internal && b_internal) {
             const std::int32_t ca = na.child[it.lane];

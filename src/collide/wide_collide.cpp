@@ -47,7 +47,7 @@ HoistedNode hoist_node(const WideFrame& f, const WideNode& n, const float (&t)[3
     store4(hn.k.ea[k], e[k]);
   }
   for (int i = 0; i < 3; ++i) store4(hn.tn[i], ax[3 * i] * d[0] + ax[3 * i + 1] * d[1] + ax[3 * i + 2] * d[2]);
-  const F4 d1 = abs4(d[0]) + abs4(d[1]) + abs4(d[2]);
+  const F4 d1 = lane_abs(d[0]) + lane_abs(d[1]) + lane_abs(d[2]);
   const F4 kappa = splat4(f.kappa), margin = splat4(f.margin);
   const F4 scaled = kappa * (e[0] + e[1] + e[2] + margin);
   store4(hn.base, scaled + splat4(10.0f * kUnitRoundoff) * d1 + splat4(4.0f) * splat4(tf_err) + margin);

@@ -221,32 +221,15 @@ struct WidePair {
 
 // ---- Lanes ------------------------------------------------------------------------------------
 
-#ifdef TIGHTBVH_WIDE_SSE
-struct F4 {
-  __m128 v;
-};
-inline F4 operator+(F4 x, F4 y) { return {_mm_add_ps(x.v, y.v)}; }
-inline F4 operator-(F4 x, F4 y) { return {_mm_sub_ps(x.v, y.v)}; }
-inline F4 operator*(F4 x, F4 y) { return {_mm_mul_ps(x.v, y.v)}; }
-inline F4 splat4(float x) { return {_mm_set1_ps(x)}; }
-inline F4 load4(const float* p) { return {_mm_load_ps(p)}; }
-inline F4 abs4(F4 x) { return {_mm_andnot_ps(_mm_set1_ps(-0.0f), x.v)}; }
-inline void store4(float* p, F4 x) { _mm_store_ps(p, x.v); }
-struct M4 {
-  __m128 v;
-};
-inline M4 operator|(M4 x, M4 y) { return {_mm_or_ps(x.v, y.v)}; }
-inline M4 gt4(F4 x, F4 y) { return {_mm_cmpgt_ps(x.v, y.v)}; }
-inline unsigned bits4(M4 m) { return static_cast<unsigned>(_mm_movemask_ps(m.v)); }
-#else
-// Portable lanes (other architectures, or TIGHTBVH_WIDE_PORTABLE): four floats, each operation
-// lane by lane (compilers vectorize these loops).
-struct F4 {
+// Portable lanes: four floats, each operation lane by lane (compilers vectorize these loops). They
+// are the build's lanes on other architectures than x86-64 or with TIGHTBVH_WIDE_PORTABLE, and
+// are always compiled, so that the tests check them against the SSE lanes bit for bit.
+struct P4 {
   float v[4];
 };
 #define TIGHTBVH_WIDE_LANEWISE(op)                         \
-  inline F4 operator op(F4 x, F4 y) {                      \
-    F4 r;                                                  \
+  inline P4 operator op(P4 x, P4 y) {                      \
+    P4 r;                                                  \
     for (int l = 0; l < 4; ++l) r.v[l] = x.v[l] op y.v[l]; \
     return r;                                              \
   }
@@ -254,70 +237,110 @@ TIGHTBVH_WIDE_LANEWISE(+)
 TIGHTBVH_WIDE_LANEWISE(-)
 TIGHTBVH_WIDE_LANEWISE(*)
 #undef TIGHTBVH_WIDE_LANEWISE
-inline F4 splat4(float x) { return {{x, x, x, x}}; }
-inline F4 load4(const float* p) { return {{p[0], p[1], p[2], p[3]}}; }
-inline F4 abs4(F4 x) {
+struct PM4 {
+  unsigned v;
+};
+inline PM4 operator|(PM4 x, PM4 y) { return {x.v | y.v}; }
+inline P4 lane_abs(P4 x) {
   for (float& f : x.v) f = std::abs(f);
   return x;
 }
-inline void store4(float* p, F4 x) {
-  for (int l = 0; l < 4; ++l) p[l] = x.v[l];
-}
-struct M4 {
-  unsigned v;
-};
-inline M4 operator|(M4 x, M4 y) { return {x.v | y.v}; }
-inline M4 gt4(F4 x, F4 y) {
+inline PM4 lane_gt(P4 x, P4 y) {
   unsigned m = 0;
   for (int l = 0; l < 4; ++l) m |= static_cast<unsigned>(x.v[l] > y.v[l]) << l;
   return {m};
 }
-inline unsigned bits4(M4 m) { return m.v; }
+inline bool all_lanes(PM4 m) { return m.v == 0xFu; }
+
+// What the kernel needs of a lane type besides wide_separated's operations: loads, splats and the
+// mask's bits.
+template <class V>
+struct LaneOps;
+template <>
+struct LaneOps<P4> {
+  using Mask = PM4;
+  static P4 load(const float* p) { return {{p[0], p[1], p[2], p[3]}}; }
+  static P4 splat(float x) { return {{x, x, x, x}}; }
+  static void store(float* p, P4 x) {
+    for (int l = 0; l < 4; ++l) p[l] = x.v[l];
+  }
+  static unsigned bits(PM4 m) { return m.v; }
+};
+
+#ifdef TIGHTBVH_WIDE_SSE
+struct F4 {
+  __m128 v;
+};
+inline F4 operator+(F4 x, F4 y) { return {_mm_add_ps(x.v, y.v)}; }
+inline F4 operator-(F4 x, F4 y) { return {_mm_sub_ps(x.v, y.v)}; }
+inline F4 operator*(F4 x, F4 y) { return {_mm_mul_ps(x.v, y.v)}; }
+struct M4 {
+  __m128 v;
+};
+inline M4 operator|(M4 x, M4 y) { return {_mm_or_ps(x.v, y.v)}; }
+inline F4 lane_abs(F4 x) { return {_mm_andnot_ps(_mm_set1_ps(-0.0f), x.v)}; }
+inline M4 lane_gt(F4 x, F4 y) { return {_mm_cmpgt_ps(x.v, y.v)}; }
+inline bool all_lanes(M4 m) { return _mm_movemask_ps(m.v) == 0xF; }
+template <>
+struct LaneOps<F4> {
+  using Mask = M4;
+  static F4 load(const float* p) { return {_mm_load_ps(p)}; }
+  static F4 splat(float x) { return {_mm_set1_ps(x)}; }
+  static void store(float* p, F4 x) { _mm_store_ps(p, x.v); }
+  static unsigned bits(M4 m) { return static_cast<unsigned>(_mm_movemask_ps(m.v)); }
+};
+#else
+using F4 = P4;
+using M4 = PM4;
 #endif
 
-// Lane operations of the generic kernel (wide_kernel.hpp) for F4.
-inline F4 lane_abs(F4 x) { return abs4(x); }
-inline M4 lane_gt(F4 x, F4 y) { return gt4(x, y); }
-inline bool all_lanes(M4 m) { return bits4(m) == 0xFu; }
+// The build's four lanes (F4) as the descent uses them.
+inline F4 splat4(float x) { return LaneOps<F4>::splat(x); }
+inline F4 load4(const float* p) { return LaneOps<F4>::load(p); }
+inline void store4(float* p, F4 x) { LaneOps<F4>::store(p, x); }
 
 // The kernel's B side (the four children of `b`) and its mask of kept lanes, A's side filled in.
-template <WideTier kTier>
-[[nodiscard]] inline unsigned wide_kept(WideLanes<F4>& l, const WideNode& b) {
-  for (int r = 0; r < 9; ++r) l.bx[r] = load4(b.axes[r]);
+template <WideTier kTier, class V>
+[[nodiscard]] inline unsigned wide_kept(WideLanes<V>& l, const WideNode& b) {
+  using Ops = LaneOps<V>;
+  for (int r = 0; r < 9; ++r) l.bx[r] = Ops::load(b.axes[r]);
   for (int k = 0; k < 3; ++k) {
-    l.cb[k] = load4(b.center[k]);
-    l.eb[k] = load4(b.half[k]);
+    l.cb[k] = Ops::load(b.center[k]);
+    l.eb[k] = Ops::load(b.half[k]);
   }
-  l.center_factor = splat4(16.0f * kUnitRoundoff);
-  return ~bits4(wide_separated<kTier, F4, M4>(l)) & 0xFu;
+  l.center_factor = Ops::splat(16.0f * kUnitRoundoff);
+  return ~Ops::bits(wide_separated<kTier, V, typename Ops::Mask>(l)) & 0xFu;
 }
 
 /// The kernel: A's hoisted box `h` against the four children of B's node `b`. Returns the mask of
 /// lanes kept (bit l: child l may overlap A's box within the margin); empty lanes are never kept.
-template <WideTier kTier = WideTier::full>
+/// V: the lanes, the build's (F4) or the portable ones (P4), which decide alike bit for bit.
+template <WideTier kTier = WideTier::full, class V = F4>
 [[nodiscard]] inline unsigned wide_overlap(const WideHoisted& h, const WideNode& b) {
-  WideLanes<F4> l;
-  for (int r = 0; r < 9; ++r) l.m[r] = splat4(h.m[r]);
+  using Ops = LaneOps<V>;
+  WideLanes<V> l;
+  for (int r = 0; r < 9; ++r) l.m[r] = Ops::splat(h.m[r]);
   for (int k = 0; k < 3; ++k) {
-    l.tn[k] = splat4(h.tn[k]);
-    l.ea[k] = splat4(h.ea[k]);
+    l.tn[k] = Ops::splat(h.tn[k]);
+    l.ea[k] = Ops::splat(h.ea[k]);
   }
-  l.kappa = splat4(h.kappa);
-  l.base = splat4(h.base);
+  l.kappa = Ops::splat(h.kappa);
+  l.base = Ops::splat(h.base);
   return wide_kept<kTier>(l, b);
 }
 
 /// The same for a box of a node of A hoisted in lanes (WideHoistedNode), bit for bit.
-template <WideTier kTier = WideTier::full>
+template <WideTier kTier = WideTier::full, class V = F4>
 [[nodiscard]] inline unsigned wide_overlap(const WideBoxView& a, const WideNode& b) {
-  WideLanes<F4> l;
-  for (int r = 0; r < 9; ++r) l.m[r] = splat4(a.node->m[r][a.lane]);
+  using Ops = LaneOps<V>;
+  WideLanes<V> l;
+  for (int r = 0; r < 9; ++r) l.m[r] = Ops::splat(a.node->m[r][a.lane]);
   for (int k = 0; k < 3; ++k) {
-    l.tn[k] = splat4(a.tn[k]);
-    l.ea[k] = splat4(a.node->ea[k][a.lane]);
+    l.tn[k] = Ops::splat(a.tn[k]);
+    l.ea[k] = Ops::splat(a.node->ea[k][a.lane]);
   }
-  l.kappa = splat4(a.node->kappa);
-  l.base = splat4(a.base);
+  l.kappa = Ops::splat(a.node->kappa);
+  l.base = Ops::splat(a.base);
   return wide_kept<kTier>(l, b);
 }
 

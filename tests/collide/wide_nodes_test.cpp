@@ -4,7 +4,7 @@
 // real tree that the double test obb_overlap() keeps; and it is not much more conservative than
 // needed (boxes that the double test separates by a small relative gap are culled). Also the
 // wide tree's structure (every triangle once, refs as the descent computes them) and its memory;
-// and the eight-lane AVX2 kernel decides as the four-lane one.
+// and the eight-lane AVX2 kernel and the portable lanes decide as the four-lane one.
 #include "collide/wide_nodes.hpp"
 
 #include <gtest/gtest.h>
@@ -84,7 +84,10 @@ unsigned kernel(const Obb& a, const Vec3& ref_a, const Obb& b, const Vec3& ref_b
   put(0, b);
   for (std::size_t i = 0; i < others.size() && i + 1 < kWideLanes; ++i) put(static_cast<int>(i) + 1, others[i]);
   const WideFrame f = wide_frame(rel, eta_a, eta_b, margin);
-  return wide_overlap<kTier>(hoist(f, wide_pair(f, ref_a, ref_b), wa), node);
+  const WideHoisted h = hoist(f, wide_pair(f, ref_a, ref_b), wa);
+  const unsigned kept = wide_overlap<kTier>(h, node);
+  EXPECT_EQ((wide_overlap<kTier, P4>(h, node)), kept) << "portable lanes";
+  return kept;
 }
 
 // The swapped kernel (B's box hoisted in wide_frame_swapped, A's box in lane 0 of a node whose
@@ -110,7 +113,10 @@ unsigned kernel_swapped(const Obb& a, const Vec3& ref_a, const Obb& b, const Vec
   const WideFrame fs = wide_frame_swapped(rel, eta_a, eta_b, 0.0);
   WidePair p = wide_pair(fs, ref_b, ref_a);
   p.t_err = static_cast<float>((static_cast<double>(p.t_err) + swap_error(fs, ref_b, wb)) * (1.0 + 0x1p-20));
-  return wide_overlap<kTier>(hoist(fs, p, wb), node);
+  const WideHoisted h = hoist(fs, p, wb);
+  const unsigned kept = wide_overlap<kTier>(h, node);
+  EXPECT_EQ((wide_overlap<kTier, P4>(h, node)), kept) << "portable lanes";
+  return kept;
 }
 
 // Random pairs of boxes around a shared point at each scale and offset; returns the number of
@@ -274,7 +280,7 @@ TEST(WideNodes, TreeStructureAndMemory) {
 TEST(WideNodes, KeepsEveryRealNodePairTheDoubleTestKeeps) {
   std::mt19937_64 rng(3800);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  std::size_t tested = 0, kept_double = 0, kept_float = 0, missed = 0, lanes_differ = 0;
+  std::size_t tested = 0, kept_double = 0, kept_float = 0, missed = 0, lanes_differ = 0, portable_differ = 0;
   std::size_t kept_swapped = 0, missed_swapped = 0;
   const bool avx2 = avx2_bounds_available();
   struct Item {
@@ -311,10 +317,13 @@ TEST(WideNodes, KeepsEveryRealNodePairTheDoubleTestKeeps) {
         const WideNode& na = wa.nodes[it.na];
         const WideNode& nb = wb.nodes[it.nb];
         const WideHoisted h = hoist(f, wide_pair(f, it.ref_a, it.ref_b), lane_box(na, it.lane));
-      const unsigned kept = wide_overlap(h, nb);
-      // The eight-lane AVX2 kernel (where the CPU has it) decides each lane alike.
-      const WideNode& other = wb.nodes[(it.nb + 1) % wb.nodes.size()];
-      if (wide_overlap2(h, nb, h, other, avx2) != (kept | wide_overlap(h, other) << 4)) ++lanes_differ;
+        const unsigned kept = wide_overlap(h, nb);
+        // The eight-lane AVX2 kernel (where the CPU has it) and the portable lanes decide each
+        // lane alike.
+        const WideNode& other = wb.nodes[(it.nb + 1) % wb.nodes.size()];
+        if (wide_overlap2(h, nb, h, other, avx2) != (kept | wide_overlap(h, other) << 4)) ++lanes_differ;
+        if (wide_overlap<WideTier::full, P4>(h, nb) != kept) ++portable_differ;
+        if (wide_overlap<WideTier::faces, P4>(h, nb) != wide_overlap<WideTier::faces>(h, nb)) ++portable_differ;
         const Obb a_box = ta.nodes[sa[4 * it.na + it.lane]].box.obb();
         for (int j = 0; j < kWideLanes; ++j) {
           if (is_empty_lane(nb, j)) {
@@ -355,6 +364,7 @@ TEST(WideNodes, KeepsEveryRealNodePairTheDoubleTestKeeps) {
   EXPECT_EQ(missed, 0u);
   EXPECT_EQ(missed_swapped, 0u);
   EXPECT_EQ(lanes_differ, 0u) << (avx2 ? "AVX2" : "two four-lane calls");
+  EXPECT_EQ(portable_differ, 0u) << "portable lanes";
   EXPECT_GT(kept_double, 1000u);
   std::printf("[ wide     ] %zu real box pairs: double keeps %zu, float keeps %zu, swapped float keeps %zu\n", tested,
               kept_double, kept_float, kept_swapped);

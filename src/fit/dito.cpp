@@ -127,7 +127,7 @@ Obb dito_box(std::span<const Vec3> points) {
   const auto try_face = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
     const Vec3 n = (b - a).cross(c - a);
     if (!(n.squaredNorm() > 0.0)) return;
-    for (const Vec3 edge : {Vec3(b - a), Vec3(c - b), Vec3(a - c)}) {
+    for (const Vec3& edge : {Vec3(b - a), Vec3(c - b), Vec3(a - c)}) {
       const Mat3 frame = frame_from_edge(edge, n);
       if (const double s = score(scored, frame, length); s < best) best = s, best_frame = frame;
     }

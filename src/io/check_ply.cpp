@@ -42,6 +42,7 @@ std::size_t ply_type_size(std::string_view type, bool& is_float, bool& is_signed
 // Reads an integer of `size` bytes (list counts and vertex indices) in the file's byte order.
 std::int64_t read_binary_int(const char* p, std::size_t size, bool is_signed, bool big_endian) {
   unsigned char b[8] = {};
+  size = std::min(size, sizeof b);  // callers pass scalar_size(), at most 8
   std::memcpy(b, p, size);
   if (big_endian) std::reverse(b, b + size);
   std::uint64_t u = 0;

@@ -21,6 +21,8 @@
 #include "tightbvh/tri_tri.hpp"
 #include "traverse.hpp"
 #include "tri_distance_disjoint.hpp"
+#include "wide_collide.hpp"
+#include "wide_nodes.hpp"
 
 namespace tightbvh {
 namespace {
@@ -47,6 +49,9 @@ constexpr double kDirectionSlack = 1e-12;
 // splitting both; splitting both at any ratio about the same time as never (5% more bounds, 10%
 // more triangle pairs).
 constexpr double kSearchSplitBothRatio = 4.0;
+
+// The same on wide nodes (volume ratio of the two boxes whose nodes both split).
+constexpr float kWideSplitBothRatio = 4.0f;
 
 // One distance query in two phases. Phase 1 (touching) is collide's first_hit walk: the SAT box
 // test with collide's allowance, both child pairs of a split at once, the touching triangle
@@ -75,6 +80,19 @@ class DistanceSearch {
     // The pairs set aside; those at or beyond the upper bound are dropped.
     std::erase_if(pairs, [&](const BoundedPair& p) { return p.bound >= options_.upper_bound; });
     best_first(pairs);
+  }
+
+  // The same search over the models' wide nodes (wa of ta, wb of tb): the touching phase is
+  // collide's wide first_hit descent, then the best-first search splits one box's node at a time
+  // and bounds its four children in float lanes (wide_distance_bounds). The same distance as
+  // run() (both find the least triangle distance, each pair measured alike); the pair and points
+  // may differ where several pairs share that distance, and the stats count the wide steps.
+  void run_wide(const query_detail::WideTree& wa, const query_detail::WideTree& wb) {
+    ws_.mapped_b.begin(tb_.nodes.size());
+    if (!(options_.upper_bound > 0.0)) return;
+    if (touching_wide(wa, wb)) return;
+    direction_slack_ = kDirectionSlack * coordinate_scale();
+    best_first_wide(wa, wb);
   }
 
   [[nodiscard]] const Best& best() const { return best_; }
@@ -133,6 +151,207 @@ class DistanceSearch {
       if (overlap[0]) stack.push(first); else aside.push_back({first.a, first.b, 0.0});
     }
     return false;
+  }
+
+  // Phase 1 on wide nodes: collide's first_hit descent over them (the same yes/no as collide());
+  // on a hit, best_ is its pair at distance 0, its points from the triangle distance.
+  bool touching_wide(const query_detail::WideTree& wa, const query_detail::WideTree& wb) {
+    const QueryResult hit = query_detail::collide_wide(ta_, wa, ma_, tb_, wb, mb_, rel_, QueryMode::first_hit);
+    stats_.node_pairs += hit.stats.box_tests;
+    stats_.triangle_pairs += hit.stats.triangle_tests;
+    if (!hit.hit) return false;
+    const TrianglePair pair = hit.pairs.front();
+    const auto [p0, p1, p2] = ma_.corners(pair.a);
+    const Triangle& tb = mb_.triangles[pair.b];
+    const TriangleDistance d = tri_tri_distance(p0, p1, p2, map_point(rel_, mb_.vertices[tb[0]]),
+                                                map_point(rel_, mb_.vertices[tb[1]]), map_point(rel_, mb_.vertices[tb[2]]));
+    best_ = {0.0, true, pair, d.point_p, d.point_q};
+    prune_at_ = 0.0;
+    return true;
+  }
+
+  // Phase 2 on wide nodes. A queued pair is a box of A and a box of B, each a lane of a wide node:
+  // the queue's entry holds the index of the two nodes' record (WideSearchItem: the nodes and
+  // their reference points, one per split) and the two lanes. Splitting a pair bounds boxes
+  // against the four children of a node in one kernel call: A's box hoisted against B's child
+  // node (the forward frame), or B's box hoisted against A's child node (the swapped frame, its
+  // pose's shift in t_err as collide's descent adds it), or, when both boxes are internal and
+  // of about one volume, the four boxes of A's child node against B's child node (16 pairs, two
+  // boxes of A a call of the eight-lane kernel where the CPU has AVX2). Otherwise the larger box
+  // by volume is split (B's on a tie), a leaf never. As best_first: bounds raised to the
+  // parent's, pairs of two leaves measured at once but for the best child, which is taken next
+  // without the queue when no queued pair can be below it.
+  void best_first_wide(const query_detail::WideTree& wa, const query_detail::WideTree& wb) {
+    using query_detail::WideNode;
+    using query_detail::WideSearchItem;
+    constexpr int kLanes = query_detail::kWideLanes;
+    const query_detail::WideFrames frames = query_detail::wide_frames(rel_, wa.eta, wb.eta, 0.0);
+    const query_detail::WideBoundConstants cf = query_detail::wide_bound_constants(frames.forward);
+    const query_detail::WideBoundConstants cs = query_detail::wide_bound_constants(frames.swapped);
+    std::vector<WideSearchItem>& records = ws_.wide_items;
+    records.clear();
+    query_detail::RadixQueue& queue = ws_.distance_queue;
+    queue.clear();
+    // A split's children: lanes of the record `record`, with their bounds.
+    std::uint32_t record = 0;
+    int lane_a[kLanes * kLanes], lane_b[kLanes * kLanes];
+    float bounds[kLanes * kLanes];
+    float raw[kLanes * kLanes];
+    const auto add_record = [&](const Vec3& ref_a, const Vec3& ref_b, std::uint32_t na, std::uint32_t nb) {
+      records.push_back({ref_a, ref_b, na, nb});
+      record = static_cast<std::uint32_t>(records.size() - 1);
+    };
+    // The children of one box split against `node`'s four (A's node when `node_is_a`): each
+    // non-empty lane l of `node` with the other box's lane `fixed`, bound raw[l].
+    const auto collect = [&](const WideNode& node, bool node_is_a, int fixed) {
+      int count = 0;
+      for (int l = 0; l < kLanes; ++l) {
+        if (query_detail::is_empty_lane(node, l)) continue;
+        lane_a[count] = node_is_a ? l : fixed;
+        lane_b[count] = node_is_a ? fixed : l;
+        bounds[count++] = raw[l];
+      }
+      return count;
+    };
+    // A's box (node na, lane la, node ref ref_a) against the children of B's node nb (ref ref_nb).
+    const auto split_b = [&](std::uint32_t na, int la, const Vec3& ref_a, std::uint32_t nb, const Vec3& ref_nb) {
+      const query_detail::WideHoisted h = query_detail::hoist(
+          frames.forward, query_detail::wide_pair(frames.forward, ref_a, ref_nb), query_detail::lane_box(wa.nodes[na], la));
+      const WideNode& node = wb.nodes[nb];
+      query_detail::wide_distance_bounds(h, node, cf, *reinterpret_cast<float(*)[kLanes]>(raw));
+      add_record(ref_a, ref_nb, na, nb);
+      return collect(node, false, la);
+    };
+    // B's box (node nb, lane lb, node ref ref_b) against the children of A's node na (ref ref_na).
+    const auto split_a = [&](std::uint32_t na, const Vec3& ref_na, std::uint32_t nb, int lb, const Vec3& ref_b) {
+      const query_detail::WideBox b = query_detail::lane_box(wb.nodes[nb], lb);
+      query_detail::WidePair p = query_detail::wide_pair(frames.swapped, ref_b, ref_na);
+      p.t_err = static_cast<float>((static_cast<double>(p.t_err) + query_detail::swap_error(frames.swapped, ref_b, b)) *
+                                   (1.0 + 0x1p-20));
+      const query_detail::WideHoisted h = query_detail::hoist(frames.swapped, p, b);
+      const WideNode& node = wa.nodes[na];
+      query_detail::wide_distance_bounds(h, node, cs, *reinterpret_cast<float(*)[kLanes]>(raw));
+      add_record(ref_na, ref_b, na, nb);
+      return collect(node, true, lb);
+    };
+    // The boxes of A's node na against the children of B's node nb.
+    const auto split_both = [&](std::uint32_t na, const Vec3& ref_na, std::uint32_t nb, const Vec3& ref_nb) {
+      const WideNode& node_a = wa.nodes[na];
+      const WideNode& node_b = wb.nodes[nb];
+      const query_detail::WidePair p = query_detail::wide_pair(frames.forward, ref_na, ref_nb);
+      // The four boxes hoisted at once (hoist_node: each lane as hoist computes it).
+      const query_detail::HoistedNode hn =
+          query_detail::hoist_node(frames.forward, node_a, p.t, static_cast<double>(p.t_err));
+      float tn[kLanes][3];
+      query_detail::WideBoxView h[kLanes];
+      for (int i = 0; i < kLanes; ++i) {
+        for (int k = 0; k < 3; ++k) tn[i][k] = hn.tn[k][i];
+        h[i] = {&hn.k, i, tn[i], hn.base[i]};
+      }
+      for (int i = 0; i < kLanes; i += 2) {
+        float* two = raw + kLanes * i;
+#ifdef TIGHTBVH_WIDE_AVX2
+        if (avx2_) {
+          query_detail::wide_distance_bounds2_avx2(h[i], node_b, h[i + 1], node_b, cf.len_sq, cf.factor,
+                                                   *reinterpret_cast<float(*)[2 * kLanes]>(two));
+          continue;
+        }
+#endif
+        query_detail::wide_distance_bounds(h[i], node_b, cf, *reinterpret_cast<float(*)[kLanes]>(two));
+        query_detail::wide_distance_bounds(h[i + 1], node_b, cf, *reinterpret_cast<float(*)[kLanes]>(two + kLanes));
+      }
+      add_record(ref_na, ref_nb, na, nb);
+      int count = 0;
+      for (int i = 0; i < kLanes; ++i) {
+        if (query_detail::is_empty_lane(node_a, i)) continue;
+        for (int l = 0; l < kLanes; ++l) {
+          if (query_detail::is_empty_lane(node_b, l)) continue;
+          lane_a[count] = i, lane_b[count] = l;
+          bounds[count++] = raw[kLanes * i + l];
+        }
+      }
+      return count;
+    };
+    const auto entry = [](std::uint32_t rec, int la, int lb, double bound) {
+      return BoundedPair{rec, static_cast<std::uint32_t>(la | lb << 8), bound};
+    };
+    // The children (child references) of an entry's two boxes.
+    const auto children = [&](const BoundedPair& e) {
+      const WideSearchItem& r = records[e.a];
+      return std::pair{wa.nodes[r.a_node].child[e.b & 0xFF], wb.nodes[r.b_node].child[e.b >> 8]};
+    };
+    const auto measure = [&](std::int32_t ca, std::int32_t cb) { leaves(wa.leaf(ca), wb.leaf(cb)); };
+    // The roots: each box of A's root node against B's root node's children.
+    const WideNode& root_a = wa.nodes[0];
+    for (int l = 0; l < kLanes; ++l) {
+      if (query_detail::is_empty_lane(root_a, l)) continue;
+      const int count = split_b(0, l, wa.root_ref, 0, wb.root_ref);
+      stats_.node_pairs += static_cast<std::uint64_t>(count);
+      for (int k = 0; k < count; ++k)
+        if (!prunable(bounds[k])) queue.push(entry(record, lane_a[k], lane_b[k], bounds[k]));
+    }
+    if (queue.empty()) return;
+    BoundedPair np = queue.pop();
+    for (;;) {
+      if (prunable(np.bound)) break;
+      const auto [ca, cb] = children(np);
+      if (ca < 0 && cb < 0) {
+        measure(ca, cb);
+        if (queue.empty()) break;
+        np = queue.pop();
+        continue;
+      }
+      const WideSearchItem it = records[np.a];
+      const int la = static_cast<int>(np.b & 0xFF), lb = static_cast<int>(np.b >> 8);
+      bool on_b = ca < 0, both = false;
+      if (!on_b && cb > 0) {
+        const WideNode& na = wa.nodes[it.a_node];
+        const WideNode& nb = wb.nodes[it.b_node];
+        const float va = na.half[0][la] * na.half[1][la] * na.half[2][la];
+        const float vb = nb.half[0][lb] * nb.half[1][lb] * nb.half[2][lb];
+        on_b = vb >= va;
+        both = vb <= kWideSplitBothRatio * va && va <= kWideSplitBothRatio * vb;
+      }
+      int count = 0;
+      if (both)
+        count = split_both(static_cast<std::uint32_t>(ca), query_detail::child_ref(it.ref_a, wa.nodes[it.a_node], la),
+                           static_cast<std::uint32_t>(cb), query_detail::child_ref(it.ref_b, wb.nodes[it.b_node], lb));
+      else if (on_b)
+        count = split_b(it.a_node, la, it.ref_a, static_cast<std::uint32_t>(cb),
+                        query_detail::child_ref(it.ref_b, wb.nodes[it.b_node], lb));
+      else
+        count = split_a(static_cast<std::uint32_t>(ca), query_detail::child_ref(it.ref_a, wa.nodes[it.a_node], la),
+                        it.b_node, lb, it.ref_b);
+      stats_.node_pairs += static_cast<std::uint64_t>(count);
+      const WideNode& kid_a = wa.nodes[records[record].a_node];
+      const WideNode& kid_b = wb.nodes[records[record].b_node];
+      int lo_index = 0;
+      double kid_bound[kLanes * kLanes];
+      for (int k = 0; k < count; ++k) {
+        kid_bound[k] = std::max(static_cast<double>(bounds[k]), np.bound);
+        if (kid_bound[k] < kid_bound[lo_index]) lo_index = k;
+      }
+      for (int k = 0; k < count; ++k) {
+        if (k == lo_index || prunable(kid_bound[k])) continue;
+        const std::int32_t ka = kid_a.child[lane_a[k]], kb = kid_b.child[lane_b[k]];
+        if (ka < 0 && kb < 0)
+          measure(ka, kb);
+        else
+          queue.push(entry(record, lane_a[k], lane_b[k], kid_bound[k]));
+      }
+      const BoundedPair lo = entry(record, lane_a[lo_index], lane_b[lo_index], kid_bound[lo_index]);
+      if (count == 0 || prunable(lo.bound)) {  // then so are the others
+        if (queue.empty()) break;
+        np = queue.pop();
+      } else if (queue.empty() || lo.bound <= np.bound) {
+        // No queued pair is below it: every queued bound is at least np.bound (the queue is
+        // monotone and np was its least), and the other children are at least lo's.
+        np = lo;
+      } else {
+        queue.push(lo);
+        np = queue.pop();
+      }
+    }
   }
 
   // collide's touching test on a leaf pair; on a hit, best_ is that pair at distance 0 (its points
@@ -394,6 +613,10 @@ class DistanceSearch {
   void leaves(std::uint32_t ia_node, std::uint32_t ib_node) {
     const Node& na = ta_.nodes[ia_node];
     const Node& nb = tb_.nodes[ib_node];
+    leaves({na.first, na.count}, {nb.first, nb.count});
+  }
+  // The same for two leaves given as ranges of the trees' triangle_order.
+  void leaves(query_detail::WideTree::LeafRange na, query_detail::WideTree::LeafRange nb) {
     for (std::uint32_t j = 0; j < nb.count; ++j) {
       const std::uint32_t ib = tb_.triangle_order[nb.first + j];
       const Triangle& tri_b = mb_.triangles[ib];
@@ -616,8 +839,12 @@ void apply_signed(const Tree* ta, const Mesh& ma, const Pose& pa, const Tree* tb
 
 }  // namespace
 
-DistanceResult distance(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,
-                        const DistanceOptions& options, QueryWorkspace& workspace) {
+namespace {
+
+// distance() over the binary trees, or over their wide nodes when wa and wb are given.
+DistanceResult distance_on(const Tree& a, const query_detail::WideTree* wa, const Mesh& ma, const Pose& pa,
+                           const Tree& b, const query_detail::WideTree* wb, const Mesh& mb, const Pose& pb,
+                           const DistanceOptions& options, QueryWorkspace& workspace) {
   check_options(options);
   if (a.nodes.empty() || b.nodes.empty()) {
     DistanceResult empty;
@@ -630,7 +857,10 @@ DistanceResult distance(const Tree& a, const Mesh& ma, const Pose& pa, const Tre
   if (options.solid || options.signed_distance) solid.emplace("distance", ma, options.closed_a, mb, options.closed_b);
   const Pose rel = relative_pose(pa, pb);
   DistanceSearch search(a, ma, b, mb, rel, options, workspace.scratch());
-  search.run();
+  if (wa != nullptr && wb != nullptr)
+    search.run_wide(*wa, *wb);
+  else
+    search.run();
   DistanceResult result = make_result(search.best(), pa, rel, options.upper_bound);
   result.stats = search.stats();
   if (options.signed_distance) {
@@ -639,6 +869,19 @@ DistanceResult distance(const Tree& a, const Mesh& ma, const Pose& pa, const Tre
   }
   if (solid && result.distance > 0.0) apply_solid(solid->overlap(a, ma, b, mb, rel), pa, result);
   return result;
+}
+
+}  // namespace
+
+DistanceResult distance(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,
+                        const DistanceOptions& options, QueryWorkspace& workspace) {
+  return distance_on(a, nullptr, ma, pa, b, nullptr, mb, pb, options, workspace);
+}
+
+DistanceResult query_detail::distance_wide(const Tree& a, const WideTree& wa, const Mesh& ma, const Pose& pa,
+                                           const Tree& b, const WideTree& wb, const Mesh& mb, const Pose& pb,
+                                           const DistanceOptions& options, QueryWorkspace& workspace) {
+  return distance_on(a, &wa, ma, pa, b, &wb, mb, pb, options, workspace);
 }
 
 DistanceResult distance(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,

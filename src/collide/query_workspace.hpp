@@ -121,12 +121,22 @@ class RadixQueue {
 
 }  // namespace query_detail
 
+namespace query_detail {
+// distance()'s search over wide nodes: a node of each tree (wide_nodes.hpp) with their reference
+// points; the queue's entries name one of these and a lane of each node (distance.cpp).
+struct WideSearchItem {
+  Vec3 ref_a, ref_b;
+  std::uint32_t a_node, b_node;
+};
+}  // namespace query_detail
+
 struct QueryWorkspace::Scratch {
   query_detail::PairStack stack;
   query_detail::TestedPairStack tested_stack;
   query_detail::BoxCache mapped_b;
   std::vector<query_detail::BoundedPair> distance_stack;
   query_detail::RadixQueue distance_queue;
+  std::vector<query_detail::WideSearchItem> wide_items;
 };
 
 }  // namespace tightbvh

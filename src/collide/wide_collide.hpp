@@ -28,6 +28,7 @@
 // Two tests go through the kernel at once (wide_overlap2, eight AVX2 lanes), in the visiting order
 // (first_hit: nearest first), each pair just before its descents.
 #include "tightbvh/collide.hpp"
+#include "tightbvh/distance.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/pose.hpp"
 #include "tightbvh/tree.hpp"
@@ -117,5 +118,13 @@ struct WideCounters {
 [[nodiscard]] QueryResult collide_wide(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb,
                                        const WideTree& wb, const Mesh& mb, const Pose& rel, QueryMode mode,
                                        double margin = 0.0, WideCounters* counters = nullptr, bool swap = true);
+
+/// distance() (distance.hpp) with its search over the wide trees `wa` of `a` and `wb` of `b`
+/// (distance.cpp, DistanceSearch::run_wide): the same distance; where several triangle pairs
+/// share it, the pair and points may be another of them; stats count the wide steps (node_pairs:
+/// the touching phase's box tests, then one box against one child per bounded lane).
+[[nodiscard]] DistanceResult distance_wide(const Tree& a, const WideTree& wa, const Mesh& ma, const Pose& pa,
+                                           const Tree& b, const WideTree& wb, const Mesh& mb, const Pose& pb,
+                                           const DistanceOptions& options, QueryWorkspace& workspace);
 
 }  // namespace tightbvh::query_detail

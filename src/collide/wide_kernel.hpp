@@ -78,21 +78,35 @@ struct WideLanes {
 // wide_nodes.hpp): R_j = M B_j and T_j = tn + M cb_j, then A's 3 face axes, B's 3 and, unless
 // kTier is faces, the 9 edge axes; stops early when every lane is separated. Needs, for V and
 // its mask M: + - *, lane_abs, lane_gt (false on NaN), M | M and all_lanes.
-template <WideTier kTier, class V, class M>
-[[nodiscard]] inline M wide_separated(const WideLanes<V>& l) {
-  V r[3][3], t[3];
+// What every axis of the kernels reads: R_j = M B_j, T_j = tn + M cb_j, |R_j| and the allowance.
+template <class V>
+struct WideRelative {
+  V r[3][3], abs_r[3][3], t[3], allow;
+};
+template <class V>
+[[nodiscard]] inline WideRelative<V> wide_relative(const WideLanes<V>& l) {
+  WideRelative<V> x;
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j)
-      r[i][j] = l.m[3 * i] * l.bx[3 * j] + l.m[3 * i + 1] * l.bx[3 * j + 1] + l.m[3 * i + 2] * l.bx[3 * j + 2];
-    t[i] = l.tn[i] + (l.m[3 * i] * l.cb[0] + l.m[3 * i + 1] * l.cb[1] + l.m[3 * i + 2] * l.cb[2]);
+      x.r[i][j] = l.m[3 * i] * l.bx[3 * j] + l.m[3 * i + 1] * l.bx[3 * j + 1] + l.m[3 * i + 2] * l.bx[3 * j + 2];
+    x.t[i] = l.tn[i] + (l.m[3 * i] * l.cb[0] + l.m[3 * i + 1] * l.cb[1] + l.m[3 * i + 2] * l.cb[2]);
   }
+  x.allow = l.kappa * (lane_abs(x.t[0]) + lane_abs(x.t[1]) + lane_abs(x.t[2]) + (l.eb[0] + l.eb[1] + l.eb[2])) +
+            l.center_factor * (lane_abs(l.cb[0]) + lane_abs(l.cb[1]) + lane_abs(l.cb[2])) + l.base;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) x.abs_r[i][j] = lane_abs(x.r[i][j]);
+  return x;
+}
+
+template <WideTier kTier, class V, class M>
+[[nodiscard]] inline M wide_separated(const WideLanes<V>& l) {
+  const WideRelative<V> x = wide_relative(l);
+  const auto& r = x.r;
+  const auto& abs_r = x.abs_r;
+  const V* t = x.t;
+  const V allow = x.allow;
   const V* eb = l.eb;
   const V* ea = l.ea;
-  const V allow = l.kappa * (lane_abs(t[0]) + lane_abs(t[1]) + lane_abs(t[2]) + (eb[0] + eb[1] + eb[2])) +
-                  l.center_factor * (lane_abs(l.cb[0]) + lane_abs(l.cb[1]) + lane_abs(l.cb[2])) + l.base;
-  V abs_r[3][3];
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) abs_r[i][j] = lane_abs(r[i][j]);
   // A's face normals.
   M sep = lane_gt(lane_abs(t[0]), ea[0] + (eb[0] * abs_r[0][0] + eb[1] * abs_r[0][1] + eb[2] * abs_r[0][2]) + allow);
   sep = sep | lane_gt(lane_abs(t[1]), ea[1] + (eb[0] * abs_r[1][0] + eb[1] * abs_r[1][1] + eb[2] * abs_r[1][2]) + allow);
@@ -119,5 +133,64 @@ template <WideTier kTier, class V, class M>
   }
   return sep;
 }
+
+// A lower bound on the distance between A's hoisted box and each lane's box of B (margin 0 in
+// the hoisting), before the final factor 1 - kappa that the caller applies (wide_nodes.hpp,
+// "The distance bound", derives both). On each of the 15 axes of wide_separated the gap
+// g = |L| - (radius + allowance), clamped at 0, is at most the true gap between the boxes'
+// projections on that (unnormalised) axis: the allowance bounds the formulas' and the roundings'
+// error exactly as for the test. The bound is the largest of sqrt(sum of A's three face gaps
+// squared), the same for B's faces, and each edge axis' gap over an upper bound on that axis'
+// length, sqrt(len_sq - max(|R_ij| - delta, 0)^2 shrink) (len_sq >= (1 + eta)^2 + 8 u, delta =
+// 16 u as R_ij is within 13 u of exact, shrink = 1 - 4 u: set by the caller). Needs, besides
+// wide_separated's operations: /, lane_max and lane_sqrt.
+template <class V>
+[[nodiscard]] inline V wide_bound(const WideLanes<V>& l, V len_sq, V delta, V shrink, V zero) {
+  const WideRelative<V> x = wide_relative(l);
+  const auto& r = x.r;
+  const auto& abs_r = x.abs_r;
+  const V* t = x.t;
+  const V allow = x.allow;
+  const V* eb = l.eb;
+  const V* ea = l.ea;
+  V in_a = zero, in_b = zero;
+  for (int i = 0; i < 3; ++i) {
+    const V gap = lane_max(
+        lane_abs(t[i]) - (ea[i] + (eb[0] * abs_r[i][0] + eb[1] * abs_r[i][1] + eb[2] * abs_r[i][2]) + allow), zero);
+    in_a = in_a + gap * gap;
+  }
+  for (int j = 0; j < 3; ++j) {
+    const V ra = ea[0] * abs_r[0][j] + ea[1] * abs_r[1][j] + ea[2] * abs_r[2][j];
+    const V tj = t[0] * r[0][j] + t[1] * r[1][j] + t[2] * r[2][j];
+    const V gap = lane_max(lane_abs(tj) - (ra + eb[j] + allow), zero);
+    in_b = in_b + gap * gap;
+  }
+  V best = lane_max(in_a, in_b);
+  for (int i = 0; i < 3; ++i) {
+    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+    for (int j = 0; j < 3; ++j) {
+      const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+      const V ra = ea[i1] * abs_r[i2][j] + ea[i2] * abs_r[i1][j];
+      const V rb = eb[j1] * abs_r[i][j2] + eb[j2] * abs_r[i][j1];
+      const V tl = t[i2] * r[i1][j] - t[i1] * r[i2][j];
+      const V gap = lane_max(lane_abs(tl) - (ra + rb + allow), zero);
+      const V s = lane_max(abs_r[i][j] - delta, zero);
+      best = lane_max(best, gap * gap / (len_sq - (s * s) * shrink));
+    }
+  }
+  return lane_sqrt(best);
+}
+
+#ifdef TIGHTBVH_WIDE_AVX2
+/// The distance bounds (wide_distance_bounds, wide_nodes.hpp) of two hoisted boxes against the
+/// children of a node each, in eight AVX2 lanes (wide_avx2.cpp): bounds[0-3] for h0 and b0,
+/// bounds[4-7] for h1 and b1, each lane the four-lane kernel's operations (no FMA), so the same
+/// bounds bit for bit. Only where avx2_bounds_available() (box_bounds4.hpp).
+void wide_distance_bounds2_avx2(const WideHoisted& h0, const WideNode& b0, const WideHoisted& h1, const WideNode& b1,
+                                float len_sq, float factor, float (&bounds)[2 * kWideLanes]);
+/// The same for two boxes of nodes of A hoisted in lanes (WideBoxView), bit for bit.
+void wide_distance_bounds2_avx2(const WideBoxView& a0, const WideNode& b0, const WideBoxView& a1, const WideNode& b1,
+                                float len_sq, float factor, float (&bounds)[2 * kWideLanes]);
+#endif
 
 }  // namespace tightbvh::query_detail

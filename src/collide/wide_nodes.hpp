@@ -236,7 +236,16 @@ struct P4 {
 TIGHTBVH_WIDE_LANEWISE(+)
 TIGHTBVH_WIDE_LANEWISE(-)
 TIGHTBVH_WIDE_LANEWISE(*)
+TIGHTBVH_WIDE_LANEWISE(/)
 #undef TIGHTBVH_WIDE_LANEWISE
+inline P4 lane_max(P4 x, P4 y) {
+  for (int l = 0; l < 4; ++l) x.v[l] = x.v[l] > y.v[l] ? x.v[l] : y.v[l];
+  return x;
+}
+inline P4 lane_sqrt(P4 x) {
+  for (float& f : x.v) f = std::sqrt(f);
+  return x;
+}
 struct PM4 {
   unsigned v;
 };
@@ -274,6 +283,9 @@ struct F4 {
 inline F4 operator+(F4 x, F4 y) { return {_mm_add_ps(x.v, y.v)}; }
 inline F4 operator-(F4 x, F4 y) { return {_mm_sub_ps(x.v, y.v)}; }
 inline F4 operator*(F4 x, F4 y) { return {_mm_mul_ps(x.v, y.v)}; }
+inline F4 operator/(F4 x, F4 y) { return {_mm_div_ps(x.v, y.v)}; }
+inline F4 lane_max(F4 x, F4 y) { return {_mm_max_ps(x.v, y.v)}; }
+inline F4 lane_sqrt(F4 x) { return {_mm_sqrt_ps(x.v)}; }
 struct M4 {
   __m128 v;
 };
@@ -299,26 +311,11 @@ inline F4 splat4(float x) { return LaneOps<F4>::splat(x); }
 inline F4 load4(const float* p) { return LaneOps<F4>::load(p); }
 inline void store4(float* p, F4 x) { LaneOps<F4>::store(p, x); }
 
-// The kernel's B side (the four children of `b`) and its mask of kept lanes, A's side filled in.
-template <WideTier kTier, class V>
-[[nodiscard]] inline unsigned wide_kept(WideLanes<V>& l, const WideNode& b) {
+// The kernel's A side: one hoisted box in every lane (WideHoisted, or a box of a node hoisted in
+// lanes: WideBoxView).
+template <class V>
+inline void a_side(WideLanes<V>& l, const WideHoisted& h) {
   using Ops = LaneOps<V>;
-  for (int r = 0; r < 9; ++r) l.bx[r] = Ops::load(b.axes[r]);
-  for (int k = 0; k < 3; ++k) {
-    l.cb[k] = Ops::load(b.center[k]);
-    l.eb[k] = Ops::load(b.half[k]);
-  }
-  l.center_factor = Ops::splat(16.0f * kUnitRoundoff);
-  return ~Ops::bits(wide_separated<kTier, V, typename Ops::Mask>(l)) & 0xFu;
-}
-
-/// The kernel: A's hoisted box `h` against the four children of B's node `b`. Returns the mask of
-/// lanes kept (bit l: child l may overlap A's box within the margin); empty lanes are never kept.
-/// V: the lanes, the build's (F4) or the portable ones (P4), which decide alike bit for bit.
-template <WideTier kTier = WideTier::full, class V = F4>
-[[nodiscard]] inline unsigned wide_overlap(const WideHoisted& h, const WideNode& b) {
-  using Ops = LaneOps<V>;
-  WideLanes<V> l;
   for (int r = 0; r < 9; ++r) l.m[r] = Ops::splat(h.m[r]);
   for (int k = 0; k < 3; ++k) {
     l.tn[k] = Ops::splat(h.tn[k]);
@@ -326,14 +323,10 @@ template <WideTier kTier = WideTier::full, class V = F4>
   }
   l.kappa = Ops::splat(h.kappa);
   l.base = Ops::splat(h.base);
-  return wide_kept<kTier>(l, b);
 }
-
-/// The same for a box of a node of A hoisted in lanes (WideHoistedNode), bit for bit.
-template <WideTier kTier = WideTier::full, class V = F4>
-[[nodiscard]] inline unsigned wide_overlap(const WideBoxView& a, const WideNode& b) {
+template <class V>
+inline void a_side(WideLanes<V>& l, const WideBoxView& a) {
   using Ops = LaneOps<V>;
-  WideLanes<V> l;
   for (int r = 0; r < 9; ++r) l.m[r] = Ops::splat(a.node->m[r][a.lane]);
   for (int k = 0; k < 3; ++k) {
     l.tn[k] = Ops::splat(a.tn[k]);
@@ -341,7 +334,82 @@ template <WideTier kTier = WideTier::full, class V = F4>
   }
   l.kappa = Ops::splat(a.node->kappa);
   l.base = Ops::splat(a.base);
-  return wide_kept<kTier>(l, b);
+}
+// The kernel's B side: the four children of `b`, one a lane.
+template <class V>
+inline void b_side(WideLanes<V>& l, const WideNode& b) {
+  using Ops = LaneOps<V>;
+  for (int r = 0; r < 9; ++r) l.bx[r] = Ops::load(b.axes[r]);
+  for (int k = 0; k < 3; ++k) {
+    l.cb[k] = Ops::load(b.center[k]);
+    l.eb[k] = Ops::load(b.half[k]);
+  }
+  l.center_factor = Ops::splat(16.0f * kUnitRoundoff);
+}
+
+/// The kernel: A's hoisted box `h` (WideHoisted, or WideBoxView: a box of a node of A hoisted in
+/// lanes, bit for bit the same) against the four children of B's node `b`. Returns the mask of
+/// lanes kept (bit l: child l may overlap A's box within the margin); empty lanes are never kept.
+/// V: the lanes, the build's (F4) or the portable ones (P4), which decide alike bit for bit.
+template <WideTier kTier = WideTier::full, class V = F4, class H>
+[[nodiscard]] inline unsigned wide_overlap(const H& h, const WideNode& b) {
+  using Ops = LaneOps<V>;
+  WideLanes<V> l;
+  a_side(l, h);
+  b_side(l, b);
+  return ~Ops::bits(wide_separated<kTier, V, typename Ops::Mask>(l)) & 0xFu;
+}
+
+// ---- The distance bound -----------------------------------------------------------------------
+//
+// The distance search over wide nodes (distance_wide, distance.cpp) bounds the distance between a
+// hoisted box of A (hoist, margin 0) and the four children of a node of B from below (wide_bound,
+// wide_kernel.hpp). Why it is a lower bound:
+//   - On each axis n of the 15, the test's derivation (the allowance section) bounds the error of
+//     the offset L and of the radius r against the exact offset and radii of the stored boxes (the
+//     parallelepipeds that contain the triangles): g = |L| - (r + allowance) <= the exact gap
+//     between their projections on n, whatever n's length; so |n . (y - x)| >= g for every x of A's
+//     box and y of B's. The float subtraction |L| - (r + allowance) rounds g up by at most u g.
+//   - Faces: with A's axes a_i as the rows of A^T, |A^T v|^2 <= lambda_max(A^T A) |v|^2 <=
+//     (1 + 3 eta) |v|^2 (Gershgorin on G = I + E), so |v| >= sqrt(sum g_i^2) / (1 + 1.5 eta); B's
+//     mapped axes R0 b_j likewise (eta covers them: wide_frame).
+//   - Edges a_i x R0 b_j: |v| >= g / |n|, and |n|^2 = |a_i|^2 |R0 b_j|^2 - (a_i . R0 b_j)^2 <=
+//     (1 + eta)^2 - (|R_ij| - 13 u)^2 for the computed R_ij (within delta_R = 13 u of exact, the
+//     allowance section); the kernel's len_sq - max(|R_ij| - 16 u, 0)^2 (1 - 4 u) is above that
+//     after its own roundings (each product and difference of terms <= 1.1 rounds by <= 1.1 u,
+//     which the 8 u in len_sq and the 3 u in delta cover).
+//   - The squares, sums, division and root round the result up by at most (1 + u)^8 < 1 + 9 u.
+// So bound (1 - kappa), kappa = 8 eta + 24 u >= 1.5 eta + 9 u + the product's own rounding, never
+// exceeds the distance between the boxes, and so between the triangles they contain. In the
+// swapped frame the swap's shift |E0 s|_inf is in t_err (swap_error) and moves the distance by a
+// relative 1.5 e0 at most, inside eta (wide_frame_swapped's eta includes 3.1 e0).
+struct WideBoundConstants {
+  float len_sq;  // (1 + eta)^2 + 8 u rounded up, eta = kappa / 8 >= the frame's eta
+  float factor;  // 1 - kappa
+};
+[[nodiscard]] inline WideBoundConstants wide_bound_constants(const WideFrame& f) {
+  const double eta = static_cast<double>(f.kappa) / 8.0;
+  const double len_sq = (1.0 + eta) * (1.0 + eta) + 8.0 * 0x1p-24;
+  return {static_cast<float>(len_sq * (1.0 + 0x1p-20)), static_cast<float>(1.0 - static_cast<double>(f.kappa))};
+}
+
+
+/// Lower bounds on the distance between A's hoisted box `h` (hoisted with margin 0; WideHoisted
+/// or WideBoxView) and each of the four children of B's node `b`, already multiplied by
+/// 1 - kappa: `bounds[l]` never exceeds the distance between the boxes (the derivation above).
+/// Empty lanes get a huge bound or +inf.
+template <class V = F4, class H>
+inline void wide_distance_bounds(const H& h, const WideNode& b, const WideBoundConstants& c,
+                                 float (&bounds)[kWideLanes]) {
+  using Ops = LaneOps<V>;
+  WideLanes<V> l;
+  a_side(l, h);
+  b_side(l, b);
+  const V bound = wide_bound(l, Ops::splat(c.len_sq), Ops::splat(16.0f * kUnitRoundoff),
+                             Ops::splat(1.0f - 4.0f * kUnitRoundoff), Ops::splat(0.0f));
+  alignas(16) float raw[kWideLanes];
+  Ops::store(raw, bound * Ops::splat(c.factor));
+  for (int k = 0; k < kWideLanes; ++k) bounds[k] = raw[k];
 }
 
 #ifdef TIGHTBVH_WIDE_AVX2

@@ -1,7 +1,9 @@
 // collide's descent over wide trees (src/collide/wide_collide.hpp) gives collide()'s answers:
 // all_pairs the same set of triangle pairs, first_hit the same yes/no (and a pair that touches),
 // on the shipped meshes over random poses (deep overlap, near first contact on either side,
-// separated) at the origin and 1e5 away from it, and brute force's answers on small meshes.
+// separated) at the origin and 1e5 away from it, and brute force's answers on small meshes. The
+// distance search over wide trees (distance_wide) gives distance()'s distance on the same poses,
+// with its options, and brute force's on small meshes.
 #include "collide/wide_collide.hpp"
 
 #include <gtest/gtest.h>
@@ -18,8 +20,10 @@
 #include "tightbvh/aabb.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
+#include "tightbvh/distance.hpp"
 #include "tightbvh/error.hpp"
 #include "tightbvh/mesh.hpp"
+#include "tightbvh/tri_distance.hpp"
 #include "tightbvh/tri_tri.hpp"
 
 namespace tightbvh {
@@ -67,6 +71,21 @@ bool check_pose(const Model& a, const Model& b, const Pose& rel, const std::stri
   }
   EXPECT_GE(wide.stats.box_tests, 1u) << where;
   EXPECT_GE(wide.stats.triangle_tests, wide.pairs.size()) << where;
+  // The distance search over the wide nodes: distance()'s distance, bit for bit (both the least
+  // triangle distance, each pair measured alike), 0 exactly where collide() hits, and a pair at it.
+  QueryWorkspace ws;
+  const DistanceResult d = distance(a.tree, a.mesh, Pose::identity(), b.tree, b.mesh, rel);
+  const DistanceResult dw = distance_wide(a.tree, a.wide, a.mesh, Pose::identity(), b.tree, b.wide, b.mesh, rel, {}, ws);
+  EXPECT_EQ(dw.distance, d.distance) << where;
+  EXPECT_EQ(dw.distance == 0.0, all.hit) << where;
+  if (dw.distance > 0.0) {
+    const auto [p0, p1, p2] = a.mesh.corners(dw.pair.a);
+    const Triangle& t = b.mesh.triangles[dw.pair.b];
+    const TriangleDistance td = tri_tri_distance(p0, p1, p2, rel.apply(b.mesh.vertices[t[0]]),
+                                                 rel.apply(b.mesh.vertices[t[1]]), rel.apply(b.mesh.vertices[t[2]]));
+    EXPECT_NEAR(td.distance, dw.distance, 1e-9 * (1.0 + dw.distance)) << where;
+    EXPECT_NEAR((dw.point_a - dw.point_b).norm(), dw.distance, 1e-9 * (1.0 + dw.distance)) << where;
+  }
   return all.hit;
 }
 
@@ -187,6 +206,16 @@ TEST(WideCollide, SamePairsAsBruteForceOnSmallMeshes) {
       const QueryResult first = collide_wide(a.tree, a.wide, a.mesh, b.tree, b.wide, b.mesh, rel, QueryMode::first_hit);
       EXPECT_EQ(first.hit, brute.hit) << "round " << round << " pose " << p;
       hits += brute.hit;
+      // The distance search over the wide nodes: brute force's distance, far poses too.
+      for (const double away : {0.0, 0.3, 2.0}) {
+        const Pose moved{rel.rotation, Vec3(rel.translation + Vec3(away, -0.5 * away, 0.25 * away))};
+        const double expected = distance_brute_force(a.mesh, Pose::identity(), b.mesh, moved).distance;
+        QueryWorkspace ws;
+        const double got =
+            distance_wide(a.tree, a.wide, a.mesh, Pose::identity(), b.tree, b.wide, b.mesh, moved, {}, ws).distance;
+        EXPECT_NEAR(got, expected, 1e-12 * (1.0 + expected)) << "round " << round << " pose " << p << " away " << away;
+        EXPECT_EQ(got == 0.0, expected == 0.0) << "round " << round << " pose " << p << " away " << away;
+      }
     }
   }
   EXPECT_GE(hits, 24);
@@ -377,6 +406,50 @@ TEST(WideCollide, MovedReferencePointsWithinTheirBounds) {
     }
   }
   EXPECT_GE(steps, 1000);
+}
+
+// distance_wide with distance()'s options: an upper bound (beyond it: the bound, flagged), an
+// allowed relative and absolute error (within them of the exact distance), a solid inside the
+// other (0), and the same errors for bad options as distance().
+TEST(WideCollide, DistanceSearchOptions) {
+  std::mt19937_64 rng(40);
+  const Model knot = model(shipped_mesh("knot1.off")), elephant = model(shipped_mesh("elephant.off"));
+  QueryWorkspace ws;
+  const auto wide = [&](const Pose& rel, const DistanceOptions& o) {
+    return distance_wide(knot.tree, knot.wide, knot.mesh, Pose::identity(), elephant.tree, elephant.wide,
+                         elephant.mesh, rel, o, ws);
+  };
+  int apart = 0;
+  for (int i = 0; i < 6; ++i) {
+    const Approach x = approach(knot, elephant, rng);
+    const Pose rel = x.at(x.hi + 0.03 * (knot.radius + elephant.radius));
+    const double exact = distance(knot.tree, knot.mesh, Pose::identity(), elephant.tree, elephant.mesh, rel).distance;
+    if (!(exact > 0.0)) continue;
+    ++apart;
+    const DistanceResult beyond = wide(rel, {.upper_bound = 0.5 * exact});
+    EXPECT_TRUE(beyond.beyond_upper_bound) << i;
+    EXPECT_EQ(beyond.distance, 0.5 * exact) << i;
+    const DistanceResult within = wide(rel, {.upper_bound = 2.0 * exact});
+    EXPECT_FALSE(within.beyond_upper_bound) << i;
+    EXPECT_EQ(within.distance, exact) << i;
+    const DistanceResult rough = wide(rel, {.absolute_error = 1e-3 * exact, .relative_error = 0.2});
+    EXPECT_GE(rough.distance, exact) << i;
+    EXPECT_LE(rough.distance, 1.2 * exact + 1e-3 * exact + 1e-12) << i;
+  }
+  EXPECT_GE(apart, 4);
+  // A sphere well inside a larger one: the surfaces apart, the solids not.
+  Mesh small = query_test::uv_sphere(12, 16, 0.2), large = query_test::uv_sphere(12, 16, 1.0);
+  const Model inner = model(std::move(small)), outer = model(std::move(large));
+  const Closedness ci = check_closed(inner.mesh), co = check_closed(outer.mesh);
+  const DistanceResult solid = distance_wide(outer.tree, outer.wide, outer.mesh, Pose::identity(), inner.tree,
+                                             inner.wide, inner.mesh, Pose::identity(),
+                                             {.solid = true, .closed_a = &co, .closed_b = &ci}, ws);
+  EXPECT_EQ(solid.distance, 0.0);
+  EXPECT_EQ(solid.inside, Inside::b_in_a);
+  const DistanceResult surfaces = distance_wide(outer.tree, outer.wide, outer.mesh, Pose::identity(), inner.tree,
+                                                inner.wide, inner.mesh, Pose::identity(), {}, ws);
+  EXPECT_NEAR(surfaces.distance, 0.8, 0.05);
+  EXPECT_THROW((void)wide(Pose::identity(), {.relative_error = -1.0}), InputError);
 }
 
 TEST(WideCollide, EmptyTreesAndBadPose) {

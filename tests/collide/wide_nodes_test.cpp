@@ -4,7 +4,9 @@
 // real tree that the double test obb_overlap() keeps; and it is not much more conservative than
 // needed (boxes that the double test separates by a small relative gap are culled). Also the
 // wide tree's structure (every triangle once, refs as the descent computes them) and its memory;
-// and the eight-lane AVX2 kernel and the portable lanes decide as the four-lane one.
+// and the eight-lane AVX2 kernel and the portable lanes decide as the four-lane one. The float
+// distance bound (wide_distance_bounds) never exceeds the boxes' exact distance (measured between
+// their faces' triangles), is 0 for boxes that share a point, and is close to the double bound.
 #include "collide/wide_nodes.hpp"
 
 #include <gtest/gtest.h>
@@ -23,7 +25,9 @@
 #include "tightbvh/build.hpp"
 #include "tightbvh/error.hpp"
 #include "tightbvh/mesh.hpp"
+#include "tightbvh/obb_distance.hpp"
 #include "tightbvh/obb_overlap.hpp"
+#include "tightbvh/tri_distance.hpp"
 
 namespace tightbvh {
 namespace {
@@ -60,11 +64,8 @@ Obb to_b_frame(const Obb& world, const Pose& rel) {
 // The kernel on A's box `a` (world frame, node ref `ref_a`) against B's box `b` (B's mesh frame,
 // in lane 0 of a node whose ref is `ref_b`; the other lanes hold `others` or stay empty). Returns
 // the kept mask.
-template <WideTier kTier = WideTier::full>
-unsigned kernel(const Obb& a, const Vec3& ref_a, const Obb& b, const Vec3& ref_b, const Pose& rel,
-                const std::vector<Obb>& others = {}, double margin = 0.0) {
-  double eta_a = 0.0, eta_b = 0.0;
-  const WideBox wa = widen_box(a, ref_a, eta_a);
+// A node of empty lanes, and `box` (relative to `ref`) put in lane `lane` of one; `eta` as widen_box.
+WideNode empty_node() {
   WideNode node{};
   for (int lane = 0; lane < kWideLanes; ++lane) {
     for (int r = 0; r < 9; ++r) node.axes[r][lane] = r % 4 == 0 ? 1.0f : 0.0f;
@@ -73,16 +74,30 @@ unsigned kernel(const Obb& a, const Vec3& ref_a, const Obb& b, const Vec3& ref_b
       node.half[k][lane] = kEmptyHalf;
     }
   }
-  const auto put = [&](int lane, const Obb& box) {
-    const WideBox wb = widen_box(box, ref_b, eta_b);
-    for (int r = 0; r < 9; ++r) node.axes[r][lane] = wb.axes[r];
-    for (int k = 0; k < 3; ++k) {
-      node.center[k][lane] = wb.center[k];
-      node.half[k][lane] = wb.half[k];
-    }
-  };
-  put(0, b);
-  for (std::size_t i = 0; i < others.size() && i + 1 < kWideLanes; ++i) put(static_cast<int>(i) + 1, others[i]);
+  return node;
+}
+void put_lane(WideNode& node, int lane, const Obb& box, const Vec3& ref, double& eta) {
+  const WideBox wb = widen_box(box, ref, eta);
+  for (int r = 0; r < 9; ++r) node.axes[r][lane] = wb.axes[r];
+  for (int k = 0; k < 3; ++k) {
+    node.center[k][lane] = wb.center[k];
+    node.half[k][lane] = wb.half[k];
+  }
+}
+WideNode lane0_node(const Obb& b, const Vec3& ref_b, double& eta) {
+  WideNode node = empty_node();
+  put_lane(node, 0, b, ref_b, eta);
+  return node;
+}
+
+template <WideTier kTier = WideTier::full>
+unsigned kernel(const Obb& a, const Vec3& ref_a, const Obb& b, const Vec3& ref_b, const Pose& rel,
+                const std::vector<Obb>& others = {}, double margin = 0.0) {
+  double eta_a = 0.0, eta_b = 0.0;
+  const WideBox wa = widen_box(a, ref_a, eta_a);
+  WideNode node = lane0_node(b, ref_b, eta_b);
+  for (std::size_t i = 0; i < others.size() && i + 1 < kWideLanes; ++i)
+    put_lane(node, static_cast<int>(i) + 1, others[i], ref_b, eta_b);
   const WideFrame f = wide_frame(rel, eta_a, eta_b, margin);
   const WideHoisted h = hoist(f, wide_pair(f, ref_a, ref_b), wa);
   const unsigned kept = wide_overlap<kTier>(h, node);
@@ -96,20 +111,7 @@ template <WideTier kTier = WideTier::full>
 unsigned kernel_swapped(const Obb& a, const Vec3& ref_a, const Obb& b, const Vec3& ref_b, const Pose& rel) {
   double eta_a = 0.0, eta_b = 0.0;
   const WideBox wb = widen_box(b, ref_b, eta_b);
-  WideNode node{};
-  for (int lane = 0; lane < kWideLanes; ++lane) {
-    for (int r = 0; r < 9; ++r) node.axes[r][lane] = r % 4 == 0 ? 1.0f : 0.0f;
-    for (int k = 0; k < 3; ++k) {
-      node.center[k][lane] = 0.0f;
-      node.half[k][lane] = kEmptyHalf;
-    }
-  }
-  const WideBox wa = widen_box(a, ref_a, eta_a);
-  for (int r = 0; r < 9; ++r) node.axes[r][0] = wa.axes[r];
-  for (int k = 0; k < 3; ++k) {
-    node.center[k][0] = wa.center[k];
-    node.half[k][0] = wa.half[k];
-  }
+  const WideNode node = lane0_node(a, ref_a, eta_a);
   const WideFrame fs = wide_frame_swapped(rel, eta_a, eta_b, 0.0);
   WidePair p = wide_pair(fs, ref_b, ref_a);
   p.t_err = static_cast<float>((static_cast<double>(p.t_err) + swap_error(fs, ref_b, wb)) * (1.0 + 0x1p-20));
@@ -117,6 +119,105 @@ unsigned kernel_swapped(const Obb& a, const Vec3& ref_a, const Obb& b, const Vec
   const unsigned kept = wide_overlap<kTier>(h, node);
   EXPECT_EQ((wide_overlap<kTier, P4>(h, node)), kept) << "portable lanes";
   return kept;
+}
+
+// The distance bound of A's box against B's (B's mesh frame under rel), forward (A hoisted) and
+// swapped (B hoisted, as distance_wide runs it); each checked against the portable lanes and,
+// where the CPU has AVX2, the eight-lane kernel.
+struct TwoBounds {
+  float forward, swapped;
+};
+TwoBounds distance_bounds(const Obb& a, const Vec3& ref_a, const Obb& b, const Vec3& ref_b, const Pose& rel) {
+  double eta_a = 0.0, eta_b = 0.0;
+  const WideNode node_b = lane0_node(b, ref_b, eta_b);
+  const WideNode node_a = lane0_node(a, ref_a, eta_a);
+  const WideBox box_a = lane_box(node_a, 0), box_b = lane_box(node_b, 0);
+  const WideFrames frames = wide_frames(rel, eta_a, eta_b, 0.0);
+  const WideHoisted hf = hoist(frames.forward, wide_pair(frames.forward, ref_a, ref_b), box_a);
+  WidePair ps = wide_pair(frames.swapped, ref_b, ref_a);
+  ps.t_err = static_cast<float>((static_cast<double>(ps.t_err) + swap_error(frames.swapped, ref_b, box_b)) *
+                                (1.0 + 0x1p-20));
+  const WideHoisted hs = hoist(frames.swapped, ps, box_b);
+  float f[kWideLanes], g[kWideLanes], fp[kWideLanes];
+  wide_distance_bounds(hf, node_b, wide_bound_constants(frames.forward), f);
+  wide_distance_bounds(hs, node_a, wide_bound_constants(frames.swapped), g);
+  wide_distance_bounds<P4>(hf, node_b, wide_bound_constants(frames.forward), fp);
+  EXPECT_EQ(fp[0], f[0]) << "portable lanes";
+#ifdef TIGHTBVH_WIDE_AVX2
+  if (avx2_bounds_available()) {
+    const WideBoundConstants c = wide_bound_constants(frames.forward);
+    float eight[2 * kWideLanes];
+    wide_distance_bounds2_avx2(hf, node_b, hf, node_b, c.len_sq, c.factor, eight);
+    EXPECT_EQ(eight[0], f[0]) << "eight lanes";
+    EXPECT_EQ(eight[4], f[0]) << "eight lanes";
+  }
+#endif
+  for (int l = 1; l < kWideLanes; ++l) EXPECT_GT(f[l], 1e20f) << "empty lane " << l;
+  return {f[0], g[0]};
+}
+
+// The exact distance between two boxes (in one frame): the least distance between their faces'
+// triangles (0 if they intersect or one holds the other, which the callers exclude).
+double box_distance(const Obb& a, const Obb& b) {
+  const auto corners = [](const Obb& o) {
+    std::vector<Vec3> c;
+    for (int k = 0; k < 8; ++k)
+      c.push_back(o.center + o.axes * Vec3((k & 1 ? 1 : -1) * o.half_extents[0], (k & 2 ? 1 : -1) * o.half_extents[1],
+                                           (k & 4 ? 1 : -1) * o.half_extents[2]));
+    return c;
+  };
+  // The 12 triangles of a box's faces, by corner index.
+  static const int kFaces[12][3] = {{0, 1, 3}, {0, 3, 2}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                                    {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 3, 7}, {1, 7, 5}};
+  const std::vector<Vec3> ca = corners(a), cb = corners(b);
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& fa : kFaces)
+    for (const auto& fb : kFaces)
+      best = std::min(best, tri_tri_distance(ca[fa[0]], ca[fa[1]], ca[fa[2]], cb[fb[0]], cb[fb[1]], cb[fb[2]]).distance);
+  return best;
+}
+
+// The distance bound: 0 for boxes that share a point (the pairs of NeverCullsBoxesThatShareAPoint's
+// kind), never above the exact distance of separated boxes at scales 1e-3 to 1e4 and offsets up
+// to 1e6, and at the origin within a few percent of the double bound (obb_distance_lower_bound).
+TEST(WideNodes, DistanceBoundIsALowerBound) {
+  std::mt19937_64 rng(381);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), gap(0.0, 0.5);
+  int sharing = 0, separated = 0, close_to_double = 0, compared = 0;
+  for (const double scale : {1e-3, 1.0, 1e4})
+    for (const double offset : {0.0, 1e3, 1e6})
+      for (int n = 0; n < 150; ++n) {
+        const Vec3 p = offset * Vec3(unit(rng), unit(rng), unit(rng)) + scale * Vec3(unit(rng), unit(rng), unit(rng));
+        const Mat3 ra = n % 4 == 1 ? Mat3::Identity() : random_rotation(rng);
+        const Mat3 rb = n % 4 == 0 ? ra : n % 4 == 1 ? Mat3::Identity() : random_rotation(rng);
+        const Obb a = box_around(rng, p, scale, ra);
+        Obb b_world = box_around(rng, p, scale, rb);
+        const Pose rel{random_rotation(rng), offset * Vec3(unit(rng), unit(rng), unit(rng))};
+        const TwoBounds touching = distance_bounds(a, a.center, to_b_frame(b_world, rel), b_world.center, rel);
+        ++sharing;
+        EXPECT_EQ(touching.forward, 0.0f) << "scale " << scale << " offset " << offset << " n " << n;
+        EXPECT_EQ(touching.swapped, 0.0f) << "scale " << scale << " offset " << offset << " n " << n;
+        // B moved away from A by up to half the scale in a random direction.
+        b_world.center += scale * gap(rng) * Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+        const double exact = box_distance(a, b_world);
+        if (!(exact > 0.0)) continue;
+        ++separated;
+        const Obb b = to_b_frame(b_world, rel);
+        const TwoBounds apart = distance_bounds(a, a.center, b, b.center + scale * Vec3(0.1, -0.2, 0.3), rel);
+        // The exact distance is measured in double from the same corners: allow its rounding.
+        const double allowed = exact + 1e-12 * (scale + offset);
+        EXPECT_LE(apart.forward, allowed) << "scale " << scale << " offset " << offset << " n " << n;
+        EXPECT_LE(apart.swapped, allowed) << "scale " << scale << " offset " << offset << " n " << n;
+        if (offset == 0.0) {
+          ++compared;
+          const double reference = obb_distance_lower_bound(a, b_world);
+          close_to_double += apart.forward >= 0.97 * reference - 1e-5 * scale;
+        }
+      }
+  std::printf("[ wide     ] distance bound: %d sharing pairs, %d separated, %d of %d within 3%% of the double bound\n",
+              sharing, separated, close_to_double, compared);
+  EXPECT_GE(separated, 500);
+  EXPECT_GE(close_to_double, compared * 95 / 100);
 }
 
 // Random pairs of boxes around a shared point at each scale and offset; returns the number of

@@ -1,4 +1,5 @@
-// tightbvh.distance, distance_batch, distance_brute_force, refit and Distance (the answer).
+// tightbvh.distance (on trees and meshes, or on two Models), distance_batch, distance_brute_force,
+// refit and Distance (the answer).
 #include <pybind11/stl.h>
 
 #include <limits>
@@ -8,6 +9,7 @@
 #include "bindings.hpp"
 #include "state.hpp"
 #include "tightbvh/distance.hpp"
+#include "tightbvh/model.hpp"
 #include "tightbvh/refit.hpp"
 
 namespace tightbvh::python {
@@ -91,6 +93,19 @@ DistanceResult distance_py(const PyTree& tree_a, py::handle mesh_a, py::handle p
       distance_options(absolute_error, relative_error, upper_bound, solid, signed_distance);
   const py::gil_scoped_release release;
   return distance(tree_a.tree, *ma, pa, tree_b.tree, *mb, pb, options);
+}
+
+// distance() on two Models (model.hpp): the same answer as on their trees.
+DistanceResult distance_models_py(const PyModel& model_a, py::handle pose_a, const PyModel& model_b,
+                                  py::handle pose_b, double absolute_error, double relative_error, double upper_bound,
+                                  bool solid, bool signed_distance) {
+  if (!model_a.model || !model_b.model) throw py::value_error("distance: a Model without a mesh");
+  const Pose pa = to_pose(pose_a, "pose_a");
+  const Pose pb = to_pose(pose_b, "pose_b");
+  const DistanceOptions options =
+      distance_options(absolute_error, relative_error, upper_bound, solid, signed_distance);
+  const py::gil_scoped_release release;
+  return distance(*model_a.model, pa, *model_b.model, pb, options);
 }
 
 // (distances (N,), triangles (N, 2) int64 with -1 where no pair is the answer, points_a and
@@ -230,6 +245,15 @@ void bind_distance(py::module_& m) {
   m.def("refit", &refit_py, py::arg("tree"), py::arg("mesh"), py::arg("fitter") = "pca", py::arg("threads") = 0,
         "A new Tree over `mesh` (the tree's faces, moved vertices) with the tree's topology and every box "
         "fitted again (refit.hpp); ValueError when the face count differs.");
+}
+
+void bind_model_distance(py::module_& m) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  m.def("distance", &distance_models_py, py::arg("model_a"), py::arg("pose_a"), py::arg("model_b"), py::arg("pose_b"),
+        py::arg("absolute_error") = 0.0, py::arg("relative_error") = 0.0, py::arg("upper_bound") = kInfinity,
+        py::arg("solid") = false, py::arg("signed_distance") = false,
+        "The same query on two Models (each its mesh and tree, built once; solid and signed_distance take "
+        "each model's closedness).");
 }
 
 }  // namespace tightbvh::python

@@ -56,5 +56,7 @@ void bind_distance(py::module_& m);
 void bind_scene(py::module_& m);
 void bind_points(py::module_& m);  // after bind_scene: methods of tightbvh.Model
 void bind_shapes(py::module_& m);
+void bind_model_collide(py::module_& m);   // after bind_scene: collide() on two tightbvh.Model
+void bind_model_distance(py::module_& m);  // after bind_scene: distance() on two tightbvh.Model
 
 }  // namespace tightbvh::python

@@ -24,6 +24,8 @@ PYBIND11_MODULE(_tightbvh, m) {
   tightbvh::python::bind_collide(m);
   tightbvh::python::bind_distance(m);
   tightbvh::python::bind_scene(m);
+  tightbvh::python::bind_model_collide(m);
+  tightbvh::python::bind_model_distance(m);
   tightbvh::python::bind_points(m);
   tightbvh::python::bind_shapes(m);
 }

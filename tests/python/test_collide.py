@@ -1,5 +1,6 @@
 """collide, collide_batch, collide_brute_force: the CLI's answers bit for bit on the shipped
-meshes, brute force on small meshes, the pose forms, batches, the GIL, and input errors."""
+meshes, brute force on small meshes, the pose forms, batches, the GIL, and input errors; collide
+and distance on two Models: the trees' answers."""
 import threading
 import time
 
@@ -33,6 +34,37 @@ def test_collide_equals_the_cli_bit_for_bit(cli, elephant, knot, trees, pose_ind
     assert result.stats == {"box_tests": out["box_tests"], "triangle_tests": out["triangle_tests"]}
     if pose_index == 0:
         assert result.hit and (not all_pairs or len(result.pairs) > 100)
+
+
+@pytest.fixture(scope="module")
+def models(elephant, knot):
+    return tightbvh.Model(elephant), tightbvh.Model(knot)
+
+
+@pytest.mark.parametrize("pose_index", range(len(POSES)))
+def test_collide_and_distance_on_models_equal_the_trees(elephant, knot, trees, models, pose_index):
+    pose = POSES[pose_index]
+    on_trees = tightbvh.collide(trees[0], elephant, None, trees[1], knot, pose, all_pairs=True)
+    on_models = tightbvh.collide(models[0], None, models[1], pose, all_pairs=True)
+    assert on_models.pairs.tolist() == on_trees.pairs.tolist()
+    assert on_models.hit == on_trees.hit == tightbvh.collide(models[0], None, models[1], pose).hit
+    within = tightbvh.collide(models[0], None, models[1], pose, all_pairs=True, margin=0.01)
+    expected = tightbvh.collide(trees[0], elephant, None, trees[1], knot, pose, all_pairs=True, margin=0.01)
+    assert within.pairs.tolist() == expected.pairs.tolist()
+    gap = tightbvh.distance(models[0], np.eye(4), models[1], pose)
+    assert gap.distance == tightbvh.distance(trees[0], elephant, None, trees[1], knot, pose).distance
+    assert (gap.distance == 0.0) == on_trees.hit
+
+
+def test_model_queries_input_errors(models, trees):
+    with pytest.raises(ValueError, match="pose_b: rotation is not orthonormal"):
+        tightbvh.collide(models[0], None, models[1], np.diag([2.0, 1, 1, 1]))
+    with pytest.raises(TypeError):
+        tightbvh.collide(models[0], None, trees[1], None)  # a Model and a Tree do not mix
+    with pytest.raises(TypeError):
+        tightbvh.distance(models[0], None, "knot", None)
+    with pytest.raises(ValueError, match="relative_error"):
+        tightbvh.distance(models[0], None, models[1], None, relative_error=-1.0)
 
 
 def small_meshes():

@@ -12,6 +12,7 @@
 #include "tightbvh/build.hpp"
 #include "tightbvh/closed.hpp"
 #include "tightbvh/collide.hpp"
+#include "tightbvh/collide_trace.hpp"
 #include "tightbvh/distance.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/obb.hpp"
@@ -93,6 +94,14 @@ using ModelPtr = std::shared_ptr<const Model>;
 /// The same answer, with caller-owned scratch (no allocation per query).
 [[nodiscard]] QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
                                   const QueryOptions& options, QueryWorkspace& workspace);
+/// collide() of two posed models with its descent recorded (collide_trace.hpp): the wide descent
+/// that collide() on models makes, the same answer, stats and first hit. Each VisitedPair is one
+/// box of A against one child box of B, named by the Tree nodes whose boxes the wide nodes hold
+/// (a wide node's children are binary descendants one or more levels down, so levels can skip),
+/// the level being the sum of their depths; the roots' pair comes first. `visited` equals
+/// result.stats.box_tests. Errors as collide() on models.
+[[nodiscard]] CollideTrace collide_trace(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
+                                         const QueryOptions& options = {}, const CollideTraceOptions& trace = {});
 /// distance() (distance.hpp) of two posed models; closedness from the models as for collide().
 [[nodiscard]] DistanceResult distance(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
                                       const DistanceOptions& options = {});

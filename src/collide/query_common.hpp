@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "tightbvh/collide.hpp"
 #include "tightbvh/compact_box.hpp"
@@ -95,6 +96,23 @@ inline void check_margin(const char* query, double margin) {
   const Vec3 q_lo = q0.cwiseMin(q1).cwiseMin(q2), q_hi = q0.cwiseMax(q1).cwiseMax(q2);
   if (((q_lo - p_hi).array() > margin).any() || ((p_lo - q_hi).array() > margin).any()) return false;
   return tri_tri_within(p0, p1, p2, q0, q1, q2, margin);
+}
+
+// Depth of every node of `tree` (root 0): collide_trace's levels.
+[[nodiscard]] inline std::vector<std::uint32_t> node_depths(const Tree& tree) {
+  std::vector<std::uint32_t> depth(tree.nodes.size(), 0);
+  std::vector<std::uint32_t> stack{0};
+  while (!stack.empty()) {
+    const std::uint32_t i = stack.back();
+    stack.pop_back();
+    const Node& n = tree.nodes[i];
+    if (n.is_leaf()) continue;
+    for (const std::uint32_t c : {n.first, n.first + 1}) {
+      depth[c] = depth[i] + 1;
+      stack.push_back(c);
+    }
+  }
+  return depth;
 }
 
 }  // namespace tightbvh::query_detail

@@ -19,28 +19,8 @@
 #include "traverse.hpp"
 
 namespace tightbvh {
-namespace {
 
 using namespace query_detail;
-
-// Depth of every node (root 0).
-std::vector<std::uint32_t> node_depths(const Tree& tree) {
-  std::vector<std::uint32_t> depth(tree.nodes.size(), 0);
-  std::vector<std::uint32_t> stack{0};
-  while (!stack.empty()) {
-    const std::uint32_t i = stack.back();
-    stack.pop_back();
-    const Node& n = tree.nodes[i];
-    if (n.is_leaf()) continue;
-    for (const std::uint32_t c : {n.first, n.first + 1}) {
-      depth[c] = depth[i] + 1;
-      stack.push_back(c);
-    }
-  }
-  return depth;
-}
-
-}  // namespace
 
 CollideTrace collide_trace(const Tree& ta, const Mesh& ma, const Pose& pa, const Tree& tb, const Mesh& mb,
                            const Pose& pb, const QueryOptions& options, const CollideTraceOptions& trace_options) {

@@ -200,7 +200,7 @@ unsigned occupied(const WideNode& n) {
   return m;
 }
 
-template <bool FirstHit>
+template <bool FirstHit, bool Traced = false>
 struct Descent {
   const Tree& ta;
   const WideTree& wa;
@@ -224,6 +224,27 @@ struct Descent {
   double t_err_q = 0.0;  // descent_bounds: t's error anywhere in the descent
   float base_add = 0.0f;  // up(2 err) of descent_bounds: a forward box's base is its core plus this
   double margin = 0.0;    // > 0: the leaves report pairs within it (within_margin), as collide() does
+  WideTraceSink* sink = nullptr;  // Traced: where the tests are recorded
+
+  // Traced: the tests of the box in lane a_lane of A's node a against the lanes `lanes` of B's node
+  // nb, `kept` the lanes kept; a kept pair of two leaves is remembered for its triangles' outcome.
+  void record(const WideNode& a, int a_lane, std::int32_t nb, unsigned lanes, unsigned kept) {
+    if constexpr (Traced) {
+      const auto a_node = static_cast<std::uint32_t>(&a - wa.nodes.data());
+      const WideNode& n = wb.nodes[static_cast<std::size_t>(nb)];
+      for (unsigned m = lanes; m != 0; m &= m - 1) {
+        const int l = std::countr_zero(m);
+        const bool keep = ((kept >> l) & 1u) != 0;
+        const bool two_leaves = keep && a.child[a_lane] < 0 && n.child[l] < 0;
+        const auto b_node = static_cast<std::uint32_t>(nb);
+        if (two_leaves) sink->leaf_tests[WideTraceSink::key(a_node, a_lane, b_node, l)] = sink->tests.size();
+        sink->tests.push_back({a_node, b_node, static_cast<std::uint8_t>(a_lane), static_cast<std::uint8_t>(l),
+                               !keep ? PairOutcome::culled : two_leaves ? PairOutcome::leaves : PairOutcome::descended});
+      }
+    } else {
+      (void)a, (void)a_lane, (void)nb, (void)lanes, (void)kept;
+    }
+  }
 
   // The triangle pairs of A's leaf ca and B's leaf cb (child references),
   // in collide()'s order: B's triangles mapped into A's frame a chunk at a time. True: stop.
@@ -246,7 +267,7 @@ struct Descent {
           ++triangle_tests;
           const TrianglePair ids{ia, tb.triangle_order[fb + c + j]};
           if constexpr (!FirstHit) {
-            if (avx2 && margin == 0.0) {
+            if (avx2 && margin == 0.0 && !Traced) {
               batch.add(p0, p1, p2, mapped[j][0], mapped[j][1], mapped[j][2], ids, result);
               continue;
             }
@@ -276,7 +297,14 @@ struct Descent {
       const int lane = std::countr_zero(m);
       if (n.child[lane] < 0) {  // a leaf of B
         if (a_child < 0) {
-          if (leaves(a_child, n.child[lane])) return true;
+          const std::size_t reported = result.pairs.size();
+          const bool stop = leaves(a_child, n.child[lane]);
+          if constexpr (Traced) {
+            if (result.pairs.size() > reported)
+              sink->mark_hit(static_cast<std::uint32_t>(&x.node() - wa.nodes.data()), x.lane,
+                             static_cast<std::uint32_t>(nb), lane);
+          }
+          if (stop) return true;
         } else {
           down_a |= 1u << lane;
         }
@@ -311,6 +339,11 @@ struct Descent {
       } else {
         ++kernel_calls;
         m0 = wide_overlap(moved[k0].view(), b0);
+      }
+      if constexpr (Traced) {
+        record(moved[k0].node(), moved[k0].lane, next[k0], occupied(b0), m0);
+        if (k1 >= 0)
+          record(moved[k1].node(), moved[k1].lane, next[k1], occupied(wb.nodes[static_cast<std::size_t>(next[k1])]), m1);
       }
       if (m0 != 0 && visit(moved[k0], next[k0], m0)) return true;
       if (m1 != 0 && visit(moved[k1], next[k1], m1)) return true;
@@ -360,11 +393,13 @@ struct Descent {
     const WideNode& b = wb.nodes[static_cast<std::size_t>(nb)];
     const unsigned boxes_of_a = occupied(n);
     const int count = lanes_in(boxes_of_a), wanted = lanes_in(allowed);
-    box_tests += static_cast<std::uint64_t>(count) * static_cast<unsigned>(wanted);
     unsigned masks[kWideLanes] = {0, 0, 0, 0};  // by lane of n: the lanes of b kept against it
     const bool swapped = swap && wanted < count;
     if (swapped) {
+      box_tests += static_cast<std::uint64_t>(count) * static_cast<unsigned>(wanted);  // all tested at once
       swapped_tests(n, b, t, t_err, allowed, masks);
+      if constexpr (Traced)
+        for (unsigned w = boxes_of_a; w != 0; w &= w - 1) record(n, std::countr_zero(w), nb, allowed, masks[std::countr_zero(w)]);
       if ((masks[0] | masks[1] | masks[2] | masks[3]) == 0) return false;
     }
     HoistedNode hn = hoist_node(f, n, t, t_err);
@@ -382,15 +417,23 @@ struct Descent {
     // As visit: two boxes per call in the visiting order, each pair tested just before its descents.
     for (int i = 0; i < count; i += 2) {
       const int k0 = order[i], k1 = i + 1 < count ? order[i + 1] : -1;
-      if (!swapped) {
+      if (!swapped) {  // counted as tested: first_hit may stop before the last boxes
         if (k1 >= 0) {
           kernel_calls += 2;
+          box_tests += 2u * static_cast<unsigned>(wanted);
           const unsigned both = wide_overlap2(boxes[k0].view(), b, boxes[k1].view(), b, avx2);
           box_masks[k0] = both & allowed;
           box_masks[k1] = (both >> 4) & allowed;
         } else {
           ++kernel_calls;
+          box_tests += static_cast<unsigned>(wanted);
           box_masks[k0] = wide_overlap(boxes[k0].view(), b) & allowed;
+        }
+      }
+      if constexpr (Traced) {
+        if (!swapped) {  // the swapped tests were recorded when made
+          record(n, boxes[k0].lane, nb, allowed, box_masks[k0]);
+          if (k1 >= 0) record(n, boxes[k1].lane, nb, allowed, box_masks[k1]);
         }
       }
       if (box_masks[k0] != 0 && visit(boxes[k0], nb, box_masks[k0])) return true;
@@ -400,9 +443,10 @@ struct Descent {
   }
 };
 
-template <bool FirstHit>
+template <bool FirstHit, bool Traced = false>
 void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, const WideTree& wb, const Mesh& mb,
-         const Pose& rel, double margin, QueryResult& result, WideCounters* counters, bool swap) {
+         const Pose& rel, double margin, QueryResult& result, WideCounters* counters, bool swap,
+         WideTraceSink* sink = nullptr) {
   // The roots first, as collide() does (its double test, box_test.hpp): a pair whose roots are
   // apart stops here at one test, where the wide roots would test A's root children against B's.
   if (!rel.rotation.allFinite() || !rel.translation.allFinite()) throw InputError("collide_wide: pose is not finite");
@@ -410,12 +454,17 @@ void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, con
   MappedBox root_b;
   root_b.axes.noalias() = rel.rotation * tb.nodes[0].box.axes_d();
   root_b.center.noalias() = rel.rotation * tb.nodes[0].box.center_d() + rel.translation;
-  if (!box_overlap(ta.nodes[0].box, root_b, tb.nodes[0].box.half_extents, box_allowance(ta, tb, rel) + margin)) return;
+  const bool roots_overlap =
+      box_overlap(ta.nodes[0].box, root_b, tb.nodes[0].box.half_extents, box_allowance(ta, tb, rel) + margin);
+  if constexpr (Traced)
+    sink->tests.push_back({WideTraceSink::kRoot, WideTraceSink::kRoot, 0, 0,
+                           roots_overlap ? PairOutcome::descended : PairOutcome::culled});
+  if (!roots_overlap) return;
   const WideFrames frames = wide_frames(rel, wa.eta, wb.eta, margin);
   const WideFrame& fs = frames.swapped;
   TrianglePairBatch batch;
   MappedChunk mapped;
-  Descent<FirstHit> d{ta,
+  Descent<FirstHit, Traced> d{ta,
                       wa,
                       ma,
                       tb,
@@ -437,6 +486,7 @@ void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, con
   d.t_err_q = bounds.t_err;
   d.margin = margin;
   d.base_add = up(2.0 * bounds.err);
+  d.sink = sink;
   (void)d.descend_a(0, root.t, d.t_err_q, 0, occupied(wb.nodes[0]));
   if constexpr (!FirstHit) d.batch.flush(result);
   result.stats.box_tests += d.box_tests;
@@ -446,22 +496,38 @@ void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, con
 
 }  // namespace
 
-QueryResult collide_wide(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, const WideTree& wb,
-                         const Mesh& mb, const Pose& rel, QueryMode mode, double margin, WideCounters* counters,
-                         bool swap) {
+namespace {
+
+template <bool Traced>
+QueryResult collide_on(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, const WideTree& wb,
+                       const Mesh& mb, const Pose& rel, QueryMode mode, double margin, WideCounters* counters,
+                       bool swap, WideTraceSink* sink) {
   QueryResult result;
   check_margin("collide_wide", margin);
   if (wa.nodes.empty() || wb.nodes.empty()) return result;
   check_tree_fits_mesh("collide_wide", ta, ma, "A");
   check_tree_fits_mesh("collide_wide", tb, mb, "B");
   if (mode == QueryMode::first_hit) {
-    run<true>(ta, wa, ma, tb, wb, mb, rel, margin, result, counters, swap);
+    run<true, Traced>(ta, wa, ma, tb, wb, mb, rel, margin, result, counters, swap, sink);
   } else {
-    run<false>(ta, wa, ma, tb, wb, mb, rel, margin, result, counters, swap);
+    run<false, Traced>(ta, wa, ma, tb, wb, mb, rel, margin, result, counters, swap, sink);
     std::sort(result.pairs.begin(), result.pairs.end());
     result.pairs.erase(std::unique(result.pairs.begin(), result.pairs.end()), result.pairs.end());
   }
   return result;
+}
+
+}  // namespace
+
+QueryResult collide_wide_traced(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, const WideTree& wb,
+                                const Mesh& mb, const Pose& rel, QueryMode mode, double margin, WideTraceSink& sink) {
+  return collide_on<true>(ta, wa, ma, tb, wb, mb, rel, mode, margin, nullptr, true, &sink);
+}
+
+QueryResult collide_wide(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, const WideTree& wb,
+                         const Mesh& mb, const Pose& rel, QueryMode mode, double margin, WideCounters* counters,
+                         bool swap) {
+  return collide_on<false>(ta, wa, ma, tb, wb, mb, rel, mode, margin, counters, swap, nullptr);
 }
 
 }  // namespace tightbvh::query_detail

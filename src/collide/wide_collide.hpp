@@ -27,7 +27,12 @@
 //     swap_point).
 // Two tests go through the kernel at once (wide_overlap2, eight AVX2 lanes), in the visiting order
 // (first_hit: nearest first), each pair just before its descents.
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
 #include "tightbvh/collide.hpp"
+#include "tightbvh/collide_trace.hpp"
 #include "tightbvh/distance.hpp"
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/pose.hpp"
@@ -118,6 +123,35 @@ struct WideCounters {
 [[nodiscard]] QueryResult collide_wide(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb,
                                        const WideTree& wb, const Mesh& mb, const Pose& rel, QueryMode mode,
                                        double margin = 0.0, WideCounters* counters = nullptr, bool swap = true);
+
+/// What collide_wide_traced records: every box pair the descent tests, in testing order.
+struct WideTraceSink {
+  static constexpr std::uint32_t kRoot = 0xFFFFFFFFu;  // a_node and b_node of the trees' root pair
+  struct Test {
+    std::uint32_t a_node, b_node;  // wide nodes whose lanes hold the two boxes (kRoot: the roots)
+    std::uint8_t a_lane, b_lane;
+    PairOutcome outcome;  // culled, descended (kept, one box internal), leaves, hit
+  };
+  std::vector<Test> tests;
+  std::unordered_map<std::uint64_t, std::size_t> leaf_tests;  // kept pairs of two leaves -> tests index
+
+  [[nodiscard]] static std::uint64_t key(std::uint32_t a_node, int a_lane, std::uint32_t b_node, int b_lane) {
+    return (std::uint64_t{a_node} * kWideLanes + static_cast<unsigned>(a_lane)) << 32 |
+           (b_node * kWideLanes + static_cast<unsigned>(b_lane));
+  }
+  // The leaves of that pair reported a triangle pair.
+  void mark_hit(std::uint32_t a_node, int a_lane, std::uint32_t b_node, int b_lane) {
+    const auto it = leaf_tests.find(key(a_node, a_lane, b_node, b_lane));
+    if (it != leaf_tests.end()) tests[it->second].outcome = PairOutcome::hit;
+  }
+};
+
+/// collide_wide (mode and margin as there) with every box test recorded in `sink`: the same
+/// descent and answer, the leaves' triangle pairs tested one at a time (no AVX2 batch, which
+/// decides alike) so that each leaf pair's outcome is known.
+[[nodiscard]] QueryResult collide_wide_traced(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb,
+                                              const WideTree& wb, const Mesh& mb, const Pose& rel, QueryMode mode,
+                                              double margin, WideTraceSink& sink);
 
 /// distance() (distance.hpp) with its search over the wide trees `wa` of `a` and `wb` of `b`
 /// (distance.cpp, DistanceSearch::run_wide): the same distance; where several triangle pairs

@@ -12,6 +12,7 @@
 #include "../collide/solid.hpp"
 #include "../collide/wide_collide.hpp"
 #include "../collide/wide_nodes.hpp"
+#include "tightbvh/collide_trace.hpp"
 #include "tightbvh/error.hpp"
 #include "tightbvh/scene.hpp"
 #include "tightbvh/validate_tree.hpp"
@@ -107,28 +108,74 @@ QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& 
   return scene_detail::collide_checked(a, pa, b, pb, options, workspace);
 }
 
-// The wide descent in every mode and margin with the default descend rule, where it was measured
-// faster than the binary one in most scenarios (docs/design-notes/query-core.md, "collide() on
-// models" and "first_hit and margins on the wide nodes"); solids and contacts are added after it
-// as collide() adds them, after collide()'s own checks of the options.
-QueryResult scene_detail::collide_checked(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
-                                          const QueryOptions& options, QueryWorkspace& workspace) {
-  if (options.descend != DescendRule::larger_volume)
-    return collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, with_closedness(a, b, options), workspace);
+namespace {
+
+// collide() on two models (poses checked) with the descent `descend(rel, options)` over their
+// wide nodes: collide()'s checks of the options first, then solids and contacts added after the
+// descent exactly as collide() adds them.
+template <class Descend>
+QueryResult on_models(const Model& a, const Pose& pa, const Model& b, const Pose& pb, const QueryOptions& options,
+                      Descend&& descend) {
   query_detail::check_margin("collide", options.margin);
   query_detail::check_contacts("collide", options);
   const QueryOptions o = with_closedness(a, b, options);
   std::optional<query_detail::SolidMeshes> solid;  // before the descent: an open mesh always throws
-  if (o.solid) solid.emplace("collide", a.mesh_, o.closed_a, b.mesh_, o.closed_b);
+  if (o.solid) solid.emplace("collide", a.mesh(), o.closed_a, b.mesh(), o.closed_b);
   const Pose rel = relative_pose(pa, pb);
-  QueryResult result = query_detail::collide_wide(a.tree_, *a.wide_, a.mesh_, b.tree_, *b.wide_, b.mesh_, rel,
-                                                  o.mode, o.margin);
-  if (o.contacts) query_detail::add_contacts(result, a.mesh_, pa, b.mesh_, pb);
+  QueryResult result = descend(rel, o);
+  if (o.contacts) query_detail::add_contacts(result, a.mesh(), pa, b.mesh(), pb);
   if (solid && !result.hit) {  // no pair: is one solid inside the other?
-    result.inside = solid->overlap(a.tree_, a.mesh_, b.tree_, b.mesh_, rel).inside;
+    result.inside = solid->overlap(a.tree(), a.mesh(), b.tree(), b.mesh(), rel).inside;
     result.hit = result.inside != Inside::none;
   }
   return result;
+}
+
+}  // namespace
+
+// The wide descent in every mode and margin with the default descend rule, where it was measured
+// faster than the binary one in most scenarios (docs/design-notes/query-core.md, "collide() on
+// models" and "first_hit and margins on the wide nodes").
+QueryResult scene_detail::collide_checked(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
+                                          const QueryOptions& options, QueryWorkspace& workspace) {
+  if (options.descend != DescendRule::larger_volume)
+    return collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, with_closedness(a, b, options), workspace);
+  return on_models(a, pa, b, pb, options, [&](const Pose& rel, const QueryOptions& o) {
+    return query_detail::collide_wide(a.tree_, *a.wide_, a.mesh_, b.tree_, *b.wide_, b.mesh_, rel, o.mode, o.margin);
+  });
+}
+
+// The wide descent recorded: its wide trees built again with the Tree node of every lane (the
+// same trees as the model's: build_wide is deterministic), each test named by those nodes.
+CollideTrace collide_trace(const Model& a, const Pose& pa, const Model& b, const Pose& pb, const QueryOptions& options,
+                           const CollideTraceOptions& trace_options) {
+  if (!is_valid_pose(pa)) require_valid_pose(pa, "collide_trace", "the pose of model A");
+  if (!is_valid_pose(pb)) require_valid_pose(pb, "collide_trace", "the pose of model B");
+  if (options.descend != DescendRule::larger_volume)
+    return collide_trace(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, with_closedness(a, b, options),
+                         trace_options);
+  std::vector<std::uint32_t> sources_a, sources_b;
+  const query_detail::WideTree wa = query_detail::build_wide(a.tree(), &sources_a);
+  const query_detail::WideTree wb = query_detail::build_wide(b.tree(), &sources_b);
+  query_detail::WideTraceSink sink;
+  CollideTrace trace;
+  trace.result = on_models(a, pa, b, pb, options, [&](const Pose& rel, const QueryOptions& o) {
+    return query_detail::collide_wide_traced(a.tree(), wa, a.mesh(), b.tree(), wb, b.mesh(), rel, o.mode, o.margin,
+                                             sink);
+  });
+  const std::vector<std::uint32_t> depth_a = query_detail::node_depths(a.tree());
+  const std::vector<std::uint32_t> depth_b = query_detail::node_depths(b.tree());
+  using Sink = query_detail::WideTraceSink;
+  for (const Sink::Test& t : sink.tests) {
+    const std::uint32_t ia = t.a_node == Sink::kRoot ? 0 : sources_a[t.a_node * query_detail::kWideLanes + t.a_lane];
+    const std::uint32_t ib = t.b_node == Sink::kRoot ? 0 : sources_b[t.b_node * query_detail::kWideLanes + t.b_lane];
+    const std::uint32_t level = depth_a[ia] + depth_b[ib];
+    if (trace.per_level.size() <= level) trace.per_level.resize(level + 1, {});
+    ++trace.per_level[level][static_cast<std::size_t>(t.outcome)];
+    ++trace.visited;
+    if (trace.pairs.size() < trace_options.max_pairs) trace.pairs.push_back({ia, ib, level, t.outcome});
+  }
+  return trace;
 }
 
 DistanceResult distance(const Model& a, const Pose& pa, const Model& b, const Pose& pb,

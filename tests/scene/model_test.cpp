@@ -3,9 +3,12 @@
 
 #include <algorithm>
 #include <limits>
+#include <numeric>
 #include <random>
+#include <string>
 
 #include "scene_fixtures.hpp"
+#include "tightbvh/collide_trace.hpp"
 #include "tightbvh/error.hpp"
 #include "tightbvh/model.hpp"
 
@@ -133,6 +136,70 @@ TEST(Model, ShippedMeshesGiveTheTreesAnswersInEveryMode) {
     EXPECT_EQ(m.curve_length, ml.curve_length);
   }
   EXPECT_GT(touching, 5);
+}
+
+// collide_trace on models records the wide descent that collide() on models makes: the same
+// answer and stats, one visited pair per box test, leaf pairs named by leaves of the trees, and
+// every reported triangle pair inside a leaf pair whose outcome is a hit.
+TEST(Model, CollideTraceIsTheWideDescent) {
+  const ModelPtr knot = make_model(query_test::shipped("meshes/knot1.off"));
+  const ModelPtr elephant = make_model(query_test::shipped("meshes/elephant.off"));
+  const Obb& kb = knot->bounds();
+  const Obb& eb = elephant->bounds();
+  const double reach = kb.half_extents.norm() + eb.half_extents.norm();
+  const auto leaf_holds = [](const Tree& tree, std::uint32_t node, std::uint32_t triangle) {
+    const Node& n = tree.nodes[node];
+    const auto begin = tree.triangle_order.begin() + n.first;
+    return n.is_leaf() && std::find(begin, begin + n.count, triangle) != begin + n.count;
+  };
+  std::mt19937_64 rng(12);
+  int hits = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    Pose pb = random_pose(rng, 0.0);
+    pb.translation = kb.center - pb.rotation * eb.center +
+                     std::uniform_real_distribution<double>(0.0, 0.8)(rng) * reach * Vec3::UnitX();
+    for (const QueryOptions& o : {QueryOptions{.mode = QueryMode::all_pairs}, QueryOptions{},
+                                  QueryOptions{.mode = QueryMode::all_pairs, .margin = 0.003 * reach}}) {
+      const QueryResult expected = collide(*knot, Pose{}, *elephant, pb, o);
+      const CollideTrace trace = collide_trace(*knot, Pose{}, *elephant, pb, o);
+      const std::string where = "trial " + std::to_string(trial) + " margin " + std::to_string(o.margin);
+      EXPECT_EQ(trace.result.pairs, expected.pairs) << where;  // first_hit too: the same descent
+      EXPECT_EQ(trace.result.hit, expected.hit) << where;
+      EXPECT_EQ(trace.result.stats, expected.stats) << where;
+      EXPECT_EQ(trace.visited, expected.stats.box_tests) << where;
+      ASSERT_EQ(trace.pairs.size(), trace.visited) << where;
+      std::uint64_t counted = 0, hit_pairs = 0;
+      for (const auto& row : trace.per_level) counted += std::accumulate(row.begin(), row.end(), std::uint64_t{0});
+      EXPECT_EQ(counted, trace.visited) << where;
+      EXPECT_EQ(trace.pairs.front().a, 0u);  // the roots first
+      EXPECT_EQ(trace.pairs.front().b, 0u);
+      for (const VisitedPair& v : trace.pairs) {
+        if (v.outcome != PairOutcome::leaves && v.outcome != PairOutcome::hit) continue;
+        EXPECT_TRUE(knot->tree().nodes[v.a].is_leaf() && elephant->tree().nodes[v.b].is_leaf()) << where;
+        hit_pairs += v.outcome == PairOutcome::hit;
+      }
+      EXPECT_EQ(hit_pairs > 0, expected.hit) << where;
+      for (const TrianglePair& p : expected.pairs) {
+        const bool found = std::any_of(trace.pairs.begin(), trace.pairs.end(), [&](const VisitedPair& v) {
+          return v.outcome == PairOutcome::hit && leaf_holds(knot->tree(), v.a, p.a) &&
+                 leaf_holds(elephant->tree(), v.b, p.b);
+        });
+        if (!found) ADD_FAILURE() << where << ": pair " << p.a << " " << p.b << " in no hit leaf pair";
+        if (!found || o.mode == QueryMode::first_hit) break;
+      }
+      hits += expected.hit;
+    }
+  }
+  EXPECT_GT(hits, 6);
+  // The cap keeps the prefix and counts everything; bad poses as collide().
+  const CollideTrace full = collide_trace(*knot, Pose{}, *elephant, Pose{}, {.mode = QueryMode::all_pairs});
+  const CollideTrace capped = collide_trace(*knot, Pose{}, *elephant, Pose{}, {.mode = QueryMode::all_pairs}, {.max_pairs = 10});
+  ASSERT_EQ(capped.pairs.size(), 10u);
+  EXPECT_EQ(capped.visited, full.visited);
+  for (std::size_t i = 0; i < 10; ++i) EXPECT_EQ(capped.pairs[i].a, full.pairs[i].a);
+  Pose bad;
+  bad.rotation(0, 0) = 2.0;
+  EXPECT_THROW((void)collide_trace(*knot, Pose{}, *elephant, bad), InputError);
 }
 
 TEST(Model, BadPosesAreRejectedInEveryMode) {

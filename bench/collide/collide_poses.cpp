@@ -60,7 +60,8 @@ struct WidePair {
   for (int r = 0; r < repeats; ++r)
     for (const Pose& p : poses) {
       const DistanceResult d =
-          wide != nullptr ? query_detail::distance_wide(ta, wide->a, ma, Pose::identity(), tb, wide->b, mb, p, {}, workspace)
+          wide != nullptr
+              ? query_detail::distance_wide(ta, wide->a, ma, Pose::identity(), tb, wide->b, mb, p, {}, workspace)
           : model_a != nullptr ? distance(*model_a, Pose::identity(), *model_b, p, {}, workspace)
                                : distance(ta, ma, Pose::identity(), tb, mb, p, {}, workspace);
       t.hits += d.distance == 0.0;
@@ -97,7 +98,9 @@ struct WidePair {
 
 int main(int argc, char** argv) try {
   if (argc < 6) {
-    std::fprintf(stderr, "usage: %s MESH_A MESH_B POSES FITTER first_hit|all_pairs|distance [REPEATS [trees|models|wide]]\n", argv[0]);
+    std::fprintf(stderr,
+                 "usage: %s MESH_A MESH_B POSES FITTER first_hit|all_pairs|distance [REPEATS [trees|models|wide]]\n",
+                 argv[0]);
     return 2;
   }
   const Mesh ma = load_mesh(argv[1]), mb = load_mesh(argv[2]);

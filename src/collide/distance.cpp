@@ -163,8 +163,9 @@ class DistanceSearch {
     const TrianglePair pair = hit.pairs.front();
     const auto [p0, p1, p2] = ma_.corners(pair.a);
     const Triangle& tb = mb_.triangles[pair.b];
-    const TriangleDistance d = tri_tri_distance(p0, p1, p2, map_point(rel_, mb_.vertices[tb[0]]),
-                                                map_point(rel_, mb_.vertices[tb[1]]), map_point(rel_, mb_.vertices[tb[2]]));
+    const TriangleDistance d =
+        tri_tri_distance(p0, p1, p2, map_point(rel_, mb_.vertices[tb[0]]), map_point(rel_, mb_.vertices[tb[1]]),
+                         map_point(rel_, mb_.vertices[tb[2]]));
     best_ = {0.0, true, pair, d.point_p, d.point_q};
     prune_at_ = 0.0;
     return true;
@@ -215,8 +216,9 @@ class DistanceSearch {
     };
     // A's box (node na, lane la, node ref ref_a) against the children of B's node nb (ref ref_nb).
     const auto split_b = [&](std::uint32_t na, int la, const Vec3& ref_a, std::uint32_t nb, const Vec3& ref_nb) {
-      const query_detail::WideHoisted h = query_detail::hoist(
-          frames.forward, query_detail::wide_pair(frames.forward, ref_a, ref_nb), query_detail::lane_box(wa.nodes[na], la));
+      const query_detail::WideHoisted h =
+          query_detail::hoist(frames.forward, query_detail::wide_pair(frames.forward, ref_a, ref_nb),
+                              query_detail::lane_box(wa.nodes[na], la));
       const WideNode& node = wb.nodes[nb];
       query_detail::wide_distance_bounds(h, node, cf, *reinterpret_cast<float(*)[kLanes]>(raw));
       add_record(ref_a, ref_nb, na, nb);

@@ -238,8 +238,10 @@ struct Descent {
         const bool two_leaves = keep && a.child[a_lane] < 0 && n.child[l] < 0;
         const auto b_node = static_cast<std::uint32_t>(nb);
         if (two_leaves) sink->leaf_tests[WideTraceSink::key(a_node, a_lane, b_node, l)] = sink->tests.size();
-        sink->tests.push_back({a_node, b_node, static_cast<std::uint8_t>(a_lane), static_cast<std::uint8_t>(l),
-                               !keep ? PairOutcome::culled : two_leaves ? PairOutcome::leaves : PairOutcome::descended});
+        const PairOutcome outcome =
+            !keep ? PairOutcome::culled : two_leaves ? PairOutcome::leaves : PairOutcome::descended;
+        sink->tests.push_back(
+            {a_node, b_node, static_cast<std::uint8_t>(a_lane), static_cast<std::uint8_t>(l), outcome});
       }
     } else {
       (void)a, (void)a_lane, (void)nb, (void)lanes, (void)kept;
@@ -342,8 +344,10 @@ struct Descent {
       }
       if constexpr (Traced) {
         record(moved[k0].node(), moved[k0].lane, next[k0], occupied(b0), m0);
-        if (k1 >= 0)
-          record(moved[k1].node(), moved[k1].lane, next[k1], occupied(wb.nodes[static_cast<std::size_t>(next[k1])]), m1);
+        if (k1 >= 0) {
+          const WideNode& b1 = wb.nodes[static_cast<std::size_t>(next[k1])];
+          record(moved[k1].node(), moved[k1].lane, next[k1], occupied(b1), m1);
+        }
       }
       if (m0 != 0 && visit(moved[k0], next[k0], m0)) return true;
       if (m1 != 0 && visit(moved[k1], next[k1], m1)) return true;
@@ -399,7 +403,10 @@ struct Descent {
       box_tests += static_cast<std::uint64_t>(count) * static_cast<unsigned>(wanted);  // all tested at once
       swapped_tests(n, b, t, t_err, allowed, masks);
       if constexpr (Traced)
-        for (unsigned w = boxes_of_a; w != 0; w &= w - 1) record(n, std::countr_zero(w), nb, allowed, masks[std::countr_zero(w)]);
+        for (unsigned w = boxes_of_a; w != 0; w &= w - 1) {
+          const int lane = std::countr_zero(w);
+          record(n, lane, nb, allowed, masks[lane]);
+        }
       if ((masks[0] | masks[1] | masks[2] | masks[3]) == 0) return false;
     }
     HoistedNode hn = hoist_node(f, n, t, t_err);

@@ -75,7 +75,8 @@ bool check_pose(const Model& a, const Model& b, const Pose& rel, const std::stri
   // triangle distance, each pair measured alike), 0 exactly where collide() hits, and a pair at it.
   QueryWorkspace ws;
   const DistanceResult d = distance(a.tree, a.mesh, Pose::identity(), b.tree, b.mesh, rel);
-  const DistanceResult dw = distance_wide(a.tree, a.wide, a.mesh, Pose::identity(), b.tree, b.wide, b.mesh, rel, {}, ws);
+  const DistanceResult dw =
+      distance_wide(a.tree, a.wide, a.mesh, Pose::identity(), b.tree, b.wide, b.mesh, rel, {}, ws);
   EXPECT_EQ(dw.distance, d.distance) << where;
   EXPECT_EQ(dw.distance == 0.0, all.hit) << where;
   if (dw.distance > 0.0) {

@@ -173,7 +173,8 @@ double box_distance(const Obb& a, const Obb& b) {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& fa : kFaces)
     for (const auto& fb : kFaces)
-      best = std::min(best, tri_tri_distance(ca[fa[0]], ca[fa[1]], ca[fa[2]], cb[fb[0]], cb[fb[1]], cb[fb[2]]).distance);
+      best = std::min(
+          best, tri_tri_distance(ca[fa[0]], ca[fa[1]], ca[fa[2]], cb[fb[0]], cb[fb[1]], cb[fb[2]]).distance);
   return best;
 }
 

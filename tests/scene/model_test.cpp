@@ -193,7 +193,8 @@ TEST(Model, CollideTraceIsTheWideDescent) {
   EXPECT_GT(hits, 6);
   // The cap keeps the prefix and counts everything; bad poses as collide().
   const CollideTrace full = collide_trace(*knot, Pose{}, *elephant, Pose{}, {.mode = QueryMode::all_pairs});
-  const CollideTrace capped = collide_trace(*knot, Pose{}, *elephant, Pose{}, {.mode = QueryMode::all_pairs}, {.max_pairs = 10});
+  const CollideTrace capped =
+      collide_trace(*knot, Pose{}, *elephant, Pose{}, {.mode = QueryMode::all_pairs}, {.max_pairs = 10});
   ASSERT_EQ(capped.pairs.size(), 10u);
   EXPECT_EQ(capped.visited, full.visited);
   for (std::size_t i = 0; i < 10; ++i) EXPECT_EQ(capped.pairs[i].a, full.pairs[i].a);

@@ -325,11 +325,17 @@ class DistanceSearch {
         count = split_a(static_cast<std::uint32_t>(ca), query_detail::child_ref(it.ref_a, wa.nodes[it.a_node], la),
                         it.b_node, lb, it.ref_b);
       stats_.node_pairs += static_cast<std::uint64_t>(count);
+      if (count == 0) {  // a node of empty lanes only: nothing below
+        if (queue.empty()) break;
+        np = queue.pop();
+        continue;
+      }
       const WideNode& kid_a = wa.nodes[records[record].a_node];
       const WideNode& kid_b = wb.nodes[records[record].b_node];
       int lo_index = 0;
       double kid_bound[kLanes * kLanes];
-      for (int k = 0; k < count; ++k) {
+      kid_bound[0] = std::max(static_cast<double>(bounds[0]), np.bound);
+      for (int k = 1; k < count; ++k) {
         kid_bound[k] = std::max(static_cast<double>(bounds[k]), np.bound);
         if (kid_bound[k] < kid_bound[lo_index]) lo_index = k;
       }
@@ -342,7 +348,7 @@ class DistanceSearch {
           queue.push(entry(record, lane_a[k], lane_b[k], kid_bound[k]));
       }
       const BoundedPair lo = entry(record, lane_a[lo_index], lane_b[lo_index], kid_bound[lo_index]);
-      if (count == 0 || prunable(lo.bound)) {  // then so are the others
+      if (prunable(lo.bound)) {  // then so are the others
         if (queue.empty()) break;
         np = queue.pop();
       } else if (queue.empty() || lo.bound <= np.bound) {

@@ -74,10 +74,6 @@ struct WideLanes {
   V bx[9], cb[3], eb[3];
 };
 
-// The lanes that some axis separates by more than radius + margin + allowance (the allowance of
-// wide_nodes.hpp): R_j = M B_j and T_j = tn + M cb_j, then A's 3 face axes, B's 3 and, unless
-// kTier is faces, the 9 edge axes; stops early when every lane is separated. Needs, for V and
-// its mask M: + - *, lane_abs, lane_gt (false on NaN), M | M and all_lanes.
 // What every axis of the kernels reads: R_j = M B_j, T_j = tn + M cb_j, |R_j| and the allowance.
 template <class V>
 struct WideRelative {
@@ -98,39 +94,56 @@ template <class V>
   return x;
 }
 
+// One axis as both kernels weigh it: |L| (the centers' offset along it) and reach = the two
+// radii plus the allowance; the axis separates the boxes when offset > reach. The formulas whose
+// error the allowance bounds (wide_nodes.hpp), written once.
+template <class V>
+struct WideAxis {
+  V offset, reach;
+};
+// A's face normal a_i.
+template <class V>
+[[nodiscard]] inline WideAxis<V> a_face(const WideLanes<V>& l, const WideRelative<V>& x, int i) {
+  return {lane_abs(x.t[i]),
+          l.ea[i] + (l.eb[0] * x.abs_r[i][0] + l.eb[1] * x.abs_r[i][1] + l.eb[2] * x.abs_r[i][2]) + x.allow};
+}
+// B's face normal R0 b_j.
+template <class V>
+[[nodiscard]] inline WideAxis<V> b_face(const WideLanes<V>& l, const WideRelative<V>& x, int j) {
+  const V ra = l.ea[0] * x.abs_r[0][j] + l.ea[1] * x.abs_r[1][j] + l.ea[2] * x.abs_r[2][j];
+  const V tj = x.t[0] * x.r[0][j] + x.t[1] * x.r[1][j] + x.t[2] * x.r[2][j];
+  return {lane_abs(tj), ra + l.eb[j] + x.allow};
+}
+// The edge axis a_i x R0 b_j (unnormalised).
+template <class V>
+[[nodiscard]] inline WideAxis<V> edge(const WideLanes<V>& l, const WideRelative<V>& x, int i, int j) {
+  const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+  const V ra = l.ea[i1] * x.abs_r[i2][j] + l.ea[i2] * x.abs_r[i1][j];
+  const V rb = l.eb[j1] * x.abs_r[i][j2] + l.eb[j2] * x.abs_r[i][j1];
+  const V tl = x.t[i2] * x.r[i1][j] - x.t[i1] * x.r[i2][j];
+  return {lane_abs(tl), ra + rb + x.allow};
+}
+
+// The lanes that some axis separates by more than radius + margin + allowance (the allowance of
+// wide_nodes.hpp): R_j = M B_j and T_j = tn + M cb_j, then A's 3 face axes, B's 3 and, unless
+// kTier is faces, the 9 edge axes; stops early when every lane is separated. Needs, for V and
+// its mask M: + - *, lane_abs, lane_gt (false on NaN), M | M and all_lanes.
 template <WideTier kTier, class V, class M>
 [[nodiscard]] inline M wide_separated(const WideLanes<V>& l) {
   const WideRelative<V> x = wide_relative(l);
-  const auto& r = x.r;
-  const auto& abs_r = x.abs_r;
-  const V* t = x.t;
-  const V allow = x.allow;
-  const V* eb = l.eb;
-  const V* ea = l.ea;
+  const auto separates = [](const WideAxis<V>& a) { return lane_gt(a.offset, a.reach); };
   // A's face normals.
-  M sep = lane_gt(lane_abs(t[0]), ea[0] + (eb[0] * abs_r[0][0] + eb[1] * abs_r[0][1] + eb[2] * abs_r[0][2]) + allow);
-  sep = sep | lane_gt(lane_abs(t[1]), ea[1] + (eb[0] * abs_r[1][0] + eb[1] * abs_r[1][1] + eb[2] * abs_r[1][2]) + allow);
-  sep = sep | lane_gt(lane_abs(t[2]), ea[2] + (eb[0] * abs_r[2][0] + eb[1] * abs_r[2][1] + eb[2] * abs_r[2][2]) + allow);
+  M sep = separates(a_face(l, x, 0));
+  sep = sep | separates(a_face(l, x, 1));
+  sep = sep | separates(a_face(l, x, 2));
   if (all_lanes(sep)) return sep;
   // B's face normals.
-  for (int j = 0; j < 3; ++j) {
-    const V ra = ea[0] * abs_r[0][j] + ea[1] * abs_r[1][j] + ea[2] * abs_r[2][j];
-    const V tj = t[0] * r[0][j] + t[1] * r[1][j] + t[2] * r[2][j];
-    sep = sep | lane_gt(lane_abs(tj), ra + eb[j] + allow);
-  }
+  for (int j = 0; j < 3; ++j) sep = sep | separates(b_face(l, x, j));
   if constexpr (kTier == WideTier::faces) return sep;
   if (all_lanes(sep)) return sep;
   // Edge axes A_i x B_j.
-  for (int i = 0; i < 3; ++i) {
-    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
-    for (int j = 0; j < 3; ++j) {
-      const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-      const V ra = ea[i1] * abs_r[i2][j] + ea[i2] * abs_r[i1][j];
-      const V rb = eb[j1] * abs_r[i][j2] + eb[j2] * abs_r[i][j1];
-      const V tl = t[i2] * r[i1][j] - t[i1] * r[i2][j];
-      sep = sep | lane_gt(lane_abs(tl), ra + rb + allow);
-    }
-  }
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) sep = sep | separates(edge(l, x, i, j));
   return sep;
 }
 
@@ -147,37 +160,23 @@ template <WideTier kTier, class V, class M>
 template <class V>
 [[nodiscard]] inline V wide_bound(const WideLanes<V>& l, V len_sq, V delta, V shrink, V zero) {
   const WideRelative<V> x = wide_relative(l);
-  const auto& r = x.r;
-  const auto& abs_r = x.abs_r;
-  const V* t = x.t;
-  const V allow = x.allow;
-  const V* eb = l.eb;
-  const V* ea = l.ea;
+  const auto gap = [&](const WideAxis<V>& a) { return lane_max(a.offset - a.reach, zero); };
   V in_a = zero, in_b = zero;
   for (int i = 0; i < 3; ++i) {
-    const V gap = lane_max(
-        lane_abs(t[i]) - (ea[i] + (eb[0] * abs_r[i][0] + eb[1] * abs_r[i][1] + eb[2] * abs_r[i][2]) + allow), zero);
-    in_a = in_a + gap * gap;
+    const V g = gap(a_face(l, x, i));
+    in_a = in_a + g * g;
   }
   for (int j = 0; j < 3; ++j) {
-    const V ra = ea[0] * abs_r[0][j] + ea[1] * abs_r[1][j] + ea[2] * abs_r[2][j];
-    const V tj = t[0] * r[0][j] + t[1] * r[1][j] + t[2] * r[2][j];
-    const V gap = lane_max(lane_abs(tj) - (ra + eb[j] + allow), zero);
-    in_b = in_b + gap * gap;
+    const V g = gap(b_face(l, x, j));
+    in_b = in_b + g * g;
   }
   V best = lane_max(in_a, in_b);
-  for (int i = 0; i < 3; ++i) {
-    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+  for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
-      const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-      const V ra = ea[i1] * abs_r[i2][j] + ea[i2] * abs_r[i1][j];
-      const V rb = eb[j1] * abs_r[i][j2] + eb[j2] * abs_r[i][j1];
-      const V tl = t[i2] * r[i1][j] - t[i1] * r[i2][j];
-      const V gap = lane_max(lane_abs(tl) - (ra + rb + allow), zero);
-      const V s = lane_max(abs_r[i][j] - delta, zero);
-      best = lane_max(best, gap * gap / (len_sq - (s * s) * shrink));
+      const V g = gap(edge(l, x, i, j));
+      const V s = lane_max(x.abs_r[i][j] - delta, zero);
+      best = lane_max(best, g * g / (len_sq - (s * s) * shrink));
     }
-  }
   return lane_sqrt(best);
 }
 

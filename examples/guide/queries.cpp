@@ -127,6 +127,17 @@ int main() {
   else if (overlap.penetration_lower_bound_is_zero)
     std::printf("penetration: the surfaces touch or cross, no vertex inside: the bound is 0\n");
 
+  // Two models along a sequence of close poses: the cache lets first_hit try the triangle pair
+  // that touched last time (one triangle test) before it descends.
+  tightbvh::QueryCache model_cache;
+  std::size_t model_hits = 0;
+  for (const tightbvh::Pose& p : poses)
+    model_hits += tightbvh::collide(knot, pose_a, elephant, p, {}, model_cache).hit ? 1 : 0;
+  if (model_hits != hits) {
+    std::printf("models: %zu hits through the cache, %zu on the trees\n", model_hits, hits);
+    return 1;
+  }
+
   // The check: the brute force over every triangle, and the sign against contains.
   const std::vector<tightbvh::ClosestPoint> brute = tightbvh::closest_points_brute_force(mesh_a, pose_a, points);
   std::size_t inside = 0;

@@ -17,6 +17,7 @@
 #include "tightbvh/mesh.hpp"
 #include "tightbvh/obb.hpp"
 #include "tightbvh/pose.hpp"
+#include "tightbvh/query_cache.hpp"
 #include "tightbvh/query_workspace.hpp"
 #include "tightbvh/tree.hpp"
 
@@ -69,6 +70,7 @@ class Model {
 
   friend QueryResult scene_detail::collide_checked(const Model&, const Pose&, const Model&, const Pose&,
                                                    const QueryOptions&, QueryWorkspace&);
+  friend QueryResult collide(const Model&, const Pose&, const Model&, const Pose&, const QueryOptions&, QueryCache&);
 };
 
 /// How models are shared: by any number of scene objects and threads, never modified.
@@ -94,6 +96,17 @@ using ModelPtr = std::shared_ptr<const Model>;
 /// The same answer, with caller-owned scratch (no allocation per query).
 [[nodiscard]] QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
                                   const QueryOptions& options, QueryWorkspace& workspace);
+/// collide() of two posed models along a coherent sequence of poses (a simulation loop), the same
+/// answers as without the cache. first_hit tries the triangle pair that touched in the cache's last
+/// first_hit on these models with one exact triangle test (within the margin, if any) and reports
+/// it if it still touches (stats: 0 box tests, 1 triangle test); otherwise the wide descent answers
+/// and its pair becomes the witness. all_pairs is the wide descent, as without the cache: a front
+/// of node pairs kept from query to query does not pay on these nodes
+/// (docs/design-notes/collide.md, "QueryCache: front tracking, kept but narrow"). With another
+/// descend rule than the default, the trees' collide() with the cache answers (its front).
+/// Errors as collide() on models.
+[[nodiscard]] QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
+                                  const QueryOptions& options, QueryCache& cache);
 /// collide() of two posed models with its descent recorded (collide_trace.hpp): the wide descent
 /// that collide() on models makes, the same answer, stats and first hit. Each VisitedPair is one
 /// box of A against one child box of B, named by the Tree nodes whose boxes the wide nodes hold

@@ -93,6 +93,10 @@ struct QueryCache::State {
   query_detail::EntryList front, next;
   query_detail::EntryList stack;  // descent below one front entry
   std::optional<query_detail::NodePair> last_hit;  // the leaf pair of the last first_hit's hit
+  // collide() on two Models (model.cpp): the triangle pair of the last first_hit's hit, and the
+  // models' trees it was found on. Only a hint: the pair is tested exactly before it is reported.
+  query_detail::TreeKey witness_a, witness_b;
+  std::optional<TrianglePair> witness;
   std::uint64_t resets = 0;
   QueryWorkspace::Scratch scratch;
 
@@ -100,6 +104,8 @@ struct QueryCache::State {
     key_a = key_b = {};
     front.clear();
     last_hit.reset();
+    witness_a = witness_b = {};
+    witness.reset();
   }
   // Makes the state ready for a query on (a, b): keeps the front if it was built on them.
   void bind(const Tree& a, const Tree& b) {
@@ -112,6 +118,16 @@ struct QueryCache::State {
     query_detail::fill_parents(b, parent_b);
     front.assign_one(query_detail::FrontEntry{});  // the root pair
     last_hit.reset();
+  }
+  // Makes the witness ready for a query on two models whose trees are a and b: kept if it was
+  // found on them.
+  void bind_witness(const Tree& a, const Tree& b) {
+    const query_detail::TreeKey ka = query_detail::key_of(a), kb = query_detail::key_of(b);
+    if (ka == witness_a && kb == witness_b) return;
+    if (witness) ++resets;
+    witness_a = ka;
+    witness_b = kb;
+    witness.reset();
   }
 };
 

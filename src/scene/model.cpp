@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "../collide/contact_query.hpp"
+#include "../collide/query_cache.hpp"
 #include "../collide/query_common.hpp"
 #include "../collide/solid.hpp"
 #include "../collide/wide_collide.hpp"
@@ -15,6 +16,7 @@
 #include "tightbvh/collide_trace.hpp"
 #include "tightbvh/error.hpp"
 #include "tightbvh/scene.hpp"
+#include "tightbvh/tri_tri.hpp"
 #include "tightbvh/validate_tree.hpp"
 
 namespace tightbvh {
@@ -142,6 +144,51 @@ QueryResult scene_detail::collide_checked(const Model& a, const Pose& pa, const 
     return collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, with_closedness(a, b, options), workspace);
   return on_models(a, pa, b, pb, options, [&](const Pose& rel, const QueryOptions& o) {
     return query_detail::collide_wide(a.tree_, *a.wide_, a.mesh_, b.tree_, *b.wide_, b.mesh_, rel, o.mode, o.margin);
+  });
+}
+
+// The witness first (query_cache.hpp): one exact triangle test, with the predicate the descent's
+// leaves use, so a hit here is a hit there; indices are checked because the cache's key cannot
+// tell a model rebuilt at the same address (a stale witness is then only a wasted test).
+QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb, const QueryOptions& options,
+                    QueryCache& cache) {
+  if (!is_valid_pose(pa)) require_valid_pose(pa, "collide", "the pose of model A");
+  if (!is_valid_pose(pb)) require_valid_pose(pb, "collide", "the pose of model B");
+  if (options.descend != DescendRule::larger_volume)
+    return collide(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, with_closedness(a, b, options), cache);
+  QueryCache::State& st = cache.state();
+  st.bind_witness(a.tree(), b.tree());
+  const bool first = options.mode == QueryMode::first_hit;
+  return on_models(a, pa, b, pb, options, [&](const Pose& rel, const QueryOptions& o) {
+    if (first && st.witness && st.witness->a < a.mesh().triangles.size() &&
+        st.witness->b < b.mesh().triangles.size()) {
+      const Triangle& ta = a.mesh().triangles[st.witness->a];
+      const Triangle& tb = b.mesh().triangles[st.witness->b];
+      const Vec3 q0 = query_detail::map_point(rel, b.mesh().vertices[tb[0]]);
+      const Vec3 q1 = query_detail::map_point(rel, b.mesh().vertices[tb[1]]);
+      const Vec3 q2 = query_detail::map_point(rel, b.mesh().vertices[tb[2]]);
+      const Vec3& p0 = a.mesh().vertices[ta[0]];
+      const Vec3& p1 = a.mesh().vertices[ta[1]];
+      const Vec3& p2 = a.mesh().vertices[ta[2]];
+      const bool touch = o.margin > 0.0 ? query_detail::within_margin(p0, p1, p2, q0, q1, q2, o.margin)
+                                        : tri_tri_overlap(p0, p1, p2, q0, q1, q2);
+      if (touch) {
+        QueryResult result;
+        result.hit = true;
+        result.pairs.push_back(*st.witness);
+        result.stats.triangle_tests = 1;
+        return result;
+      }
+    }
+    QueryResult result =
+        query_detail::collide_wide(a.tree_, *a.wide_, a.mesh_, b.tree_, *b.wide_, b.mesh_, rel, o.mode, o.margin);
+    if (first) {
+      if (result.hit && !result.pairs.empty())
+        st.witness = result.pairs.front();
+      else
+        st.witness.reset();
+    }
+    return result;
   });
 }
 

@@ -14,6 +14,8 @@
 #include "query_fixtures.hpp"
 #include "tightbvh/build.hpp"
 #include "tightbvh/collide.hpp"
+#include "tightbvh/error.hpp"
+#include "tightbvh/model.hpp"
 
 namespace tightbvh {
 namespace {
@@ -223,6 +225,124 @@ TEST(QueryCache, OtherTreesRestartFromTheRoots) {
   EXPECT_THROW((void)collide(ta, fewer, pa, tb, mb, poses[0], all, cache), InputError);
   EXPECT_THROW((void)collide(ta, ma, pa, tb, mb, poses[0], {.margin = -1.0}, cache), InputError);
   EXPECT_FALSE(collide(Tree{}, ma, pa, tb, mb, poses[0], all, cache).hit);
+}
+
+// Models through a cache (the wide descent, first_hit trying last hit's triangle pair first):
+// every mode and a margin give the cold queries' answers on models along trajectories, and most
+// first_hit queries in contact are answered by the witness alone (no box test).
+TEST(QueryCache, ModelsAlongATrajectoryGiveTheColdAnswers) {
+  const Mesh knot = subset(shipped("meshes/knot1.off"), 2);
+  const Mesh elephant = subset(shipped("meshes/elephant.off"), 2);
+  for (const Fitter& fitter : {Fitter{AutoFit{}}, Fitter{FitMethod::approx}}) {
+    const Model a(knot, {.fitter = fitter, .threads = 1});
+    const Model b(elephant, {.fitter = fitter, .threads = 1});
+    const Pose pa{Eigen::AngleAxisd(0.3, Vec3(1, 2, 3).normalized()).toRotationMatrix(), Vec3(0.5, -1, 2)};
+    const double margin = 0.01 * bounding_sphere(knot).radius;
+    const QueryOptions all{.mode = QueryMode::all_pairs};
+    const QueryOptions first{.mode = QueryMode::first_hit};
+    const QueryOptions within{.mode = QueryMode::all_pairs, .margin = margin};
+    const QueryOptions first_within{.mode = QueryMode::first_hit, .margin = margin};
+    QueryCache first_cache, all_cache, margin_cache, first_margin_cache;
+    int contacts = 0, witnessed = 0;
+    for (const std::uint64_t seed : {1, 2}) {
+      const std::vector<Pose> poses = trajectory(knot, pa, elephant, 240, seed, 0.6);
+      for (std::size_t i = 0; i < poses.size(); ++i) {
+        SCOPED_TRACE("seed " + std::to_string(seed) + " pose " + std::to_string(i));
+        const Pose& pb = poses[i];
+        const QueryResult cold = collide(a, pa, b, pb, all);
+        const QueryResult cold_margin = collide(a, pa, b, pb, within);
+        const QueryResult cached = collide(a, pa, b, pb, all, all_cache);
+        EXPECT_EQ(cached.pairs, cold.pairs);
+        EXPECT_EQ(cached.stats.box_tests, cold.stats.box_tests);  // the same descent
+        EXPECT_EQ(collide(a, pa, b, pb, within, margin_cache).pairs, cold_margin.pairs);
+        const QueryResult hit = collide(a, pa, b, pb, first, first_cache);
+        EXPECT_EQ(hit.hit, cold.hit);
+        ASSERT_EQ(hit.pairs.size(), hit.hit ? 1u : 0u);
+        if (hit.hit) EXPECT_TRUE(contains(cold.pairs, hit.pairs[0]));
+        const QueryResult hit_within = collide(a, pa, b, pb, first_within, first_margin_cache);
+        EXPECT_EQ(hit_within.hit, cold_margin.hit);
+        if (hit_within.hit) EXPECT_TRUE(contains(cold_margin.pairs, hit_within.pairs.at(0)));
+        contacts += cold.hit;
+        witnessed += hit.hit && hit.stats.box_tests == 0;
+      }
+    }
+    EXPECT_GE(contacts, 40);
+    EXPECT_GT(witnessed * 2, contacts) << witnessed << " of " << contacts;
+    EXPECT_EQ(first_cache.resets() + all_cache.resets(), 0u);
+  }
+}
+
+// Small models against brute force, and solids: a cube inside a closed sphere is reported
+// inside through the cache as without it, with the witness of an earlier touching pose.
+TEST(QueryCache, ModelsMatchBruteForceAndSolids) {
+  const Mesh ma = subset(shipped("meshes/knot1.off"), 40);
+  const Mesh mb = uv_sphere(6, 10, 0.2);
+  const Model a(ma, {.fitter = FitMethod::approx, .leaf_size = 3, .threads = 1});
+  const Model b(mb, {.fitter = FitMethod::pca, .leaf_size = 1, .threads = 1});
+  const Pose pa = Pose::identity();
+  QueryCache all_cache, first_cache;
+  int contacts = 0;
+  for (const Pose& pb : trajectory(ma, pa, mb, 40, 9)) {
+    const QueryResult reference = collide_brute_force(ma, pa, mb, pb, {.mode = QueryMode::all_pairs});
+    EXPECT_EQ(collide(a, pa, b, pb, {.mode = QueryMode::all_pairs}, all_cache).pairs, reference.pairs);
+    const QueryResult first = collide(a, pa, b, pb, {.mode = QueryMode::first_hit}, first_cache);
+    EXPECT_EQ(first.hit, reference.hit);
+    if (first.hit) EXPECT_TRUE(contains(reference.pairs, first.pairs.at(0)));
+    contacts += reference.hit;
+  }
+  EXPECT_GT(contacts, 3);
+
+  const Model sphere(uv_sphere(12, 16, 1.0), {.threads = 1});
+  const Model box(cube(Vec3::Constant(-0.25), 0.5), {.threads = 1});
+  const QueryOptions solid{.mode = QueryMode::first_hit, .solid = true};
+  QueryCache cache;
+  // The cube's corners cross the sphere at x = 0.95: a witness pair is stored.
+  const Pose touching{Mat3::Identity(), Vec3(0.95, 0, 0)};
+  const QueryResult touch = collide(sphere, Pose::identity(), box, touching, solid, cache);
+  ASSERT_TRUE(touch.hit);
+  EXPECT_EQ(touch.inside, Inside::none);
+  // Held still: the witness answers.
+  EXPECT_EQ(collide(sphere, Pose::identity(), box, touching, solid, cache).stats.box_tests, 0u);
+  // Moved inside: the witness misses, the descent finds no pair, the solid test answers.
+  const QueryResult inside = collide(sphere, Pose::identity(), box, Pose::identity(), solid, cache);
+  EXPECT_TRUE(inside.hit);
+  EXPECT_EQ(inside.inside, Inside::b_in_a);
+  EXPECT_TRUE(inside.pairs.empty());
+  EXPECT_EQ(inside.inside, collide(sphere, Pose::identity(), box, Pose::identity(), solid).inside);
+}
+
+// A cache moved between pairs of models forgets its witness (resets() counts it) and answers
+// right; another descend rule goes to the trees' front; bad poses are errors as without it.
+TEST(QueryCache, ModelsOtherModelsForgetTheWitness) {
+  const Mesh ma = subset(shipped("meshes/knot1.off"), 20);
+  const Mesh mb = uv_sphere(8, 12, 0.3);
+  const Model a(ma, {.threads = 1});
+  const Model b(mb, {.threads = 1});
+  const Pose pa = Pose::identity();
+  const std::vector<Pose> poses = trajectory(ma, pa, mb, 12, 3, 0.5);
+  const QueryOptions first{.mode = QueryMode::first_hit};
+  QueryCache cache;
+  std::uint64_t hits = 0;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    SCOPED_TRACE("pose " + std::to_string(i));
+    const bool swapped = i % 2 == 1;
+    const std::uint64_t resets = cache.resets();
+    const QueryResult r = swapped ? collide(b, poses[i], a, pa, first, cache) : collide(a, pa, b, poses[i], first, cache);
+    const QueryResult cold = swapped ? collide(b, poses[i], a, pa, first) : collide(a, pa, b, poses[i], first);
+    EXPECT_EQ(r.hit, cold.hit);
+    // A switch resets when the other pair's witness was held (the last query hit).
+    EXPECT_EQ(cache.resets(), resets + (i > 0 && hits > 0 ? 1u : 0u));
+    hits = r.hit ? 1 : 0;
+  }
+  EXPECT_EQ(cache.front_size(), 0u);  // the models' route keeps no front
+  const QueryResult extent = collide(a, pa, b, poses[6], {.mode = QueryMode::all_pairs,
+                                                          .descend = DescendRule::larger_extent}, cache);
+  EXPECT_EQ(extent.pairs, collide(a, pa, b, poses[6], {.mode = QueryMode::all_pairs}).pairs);
+  EXPECT_GT(cache.front_size(), 0u);
+  Pose bad = poses[0];
+  bad.translation.x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW((void)collide(a, pa, b, bad, first, cache), InputError);
+  EXPECT_THROW((void)collide(a, pa, b, poses[0], {.margin = -1.0}, cache), InputError);
 }
 
 }  // namespace

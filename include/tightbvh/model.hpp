@@ -100,9 +100,9 @@ using ModelPtr = std::shared_ptr<const Model>;
 /// answers as without the cache. first_hit tries the triangle pair that touched in the cache's last
 /// first_hit on these models with one exact triangle test (within the margin, if any) and reports
 /// it if it still touches (stats: 0 box tests, 1 triangle test); otherwise the wide descent answers
-/// and its pair becomes the witness. all_pairs is the wide descent, as without the cache: a front
-/// of node pairs kept from query to query does not pay on these nodes
-/// (docs/design-notes/collide.md, "QueryCache: front tracking, kept but narrow"). With another
+/// and its pair becomes the witness. all_pairs is the wide descent, as without the cache (no
+/// front is kept on these nodes: docs/design-notes/collide.md, "QueryCache: front tracking, kept
+/// but narrow", says why). With another
 /// descend rule than the default, the trees' collide() with the cache answers (its front).
 /// Errors as collide() on models.
 [[nodiscard]] QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb,

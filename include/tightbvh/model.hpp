@@ -27,6 +27,11 @@ namespace query_detail {
 struct WideTree;  // src/collide/wide_nodes.hpp: the query-time nodes, internal
 }
 class Model;
+namespace query_detail {
+/// Internal: the model's wide nodes, for the queries in src/collide/.
+[[nodiscard]] const WideTree& wide_of(const Model& model);
+}  // namespace query_detail
+class Model;
 namespace scene_detail {
 /// Internal: collide() of two models whose poses the caller has checked (the scenes, which check
 /// them when they are set); collide() on models checks them, then calls this.
@@ -71,6 +76,7 @@ class Model {
   friend QueryResult scene_detail::collide_checked(const Model&, const Pose&, const Model&, const Pose&,
                                                    const QueryOptions&, QueryWorkspace&);
   friend QueryResult collide(const Model&, const Pose&, const Model&, const Pose&, const QueryOptions&, QueryCache&);
+  friend const query_detail::WideTree& query_detail::wide_of(const Model&);
 };
 
 /// How models are shared: by any number of scene objects and threads, never modified.

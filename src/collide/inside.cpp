@@ -3,6 +3,7 @@
 #include "tightbvh/inside.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -11,7 +12,9 @@
 
 #include "../geometry/predicates.hpp"
 #include "query_common.hpp"
+#include "box_bounds4.hpp"
 #include "solid.hpp"
+#include "wide_nodes.hpp"
 
 namespace tightbvh {
 namespace {
@@ -135,7 +138,10 @@ constexpr int kMaxRays = 64;
   for (int k = 0; k < 3; ++k)
     for (const double sign : {1.0, -1.0}) {
       const Vec3 d = sign * Vec3::Unit(k);
-      const Vec3 along = box.axes.transpose() * (to_tree != nullptr ? Vec3(to_tree->rotation * d) : d);
+      // Without a pose, A^T d is sign times row k of A (the matrix product's other terms are
+      // exact zeros), read rather than multiplied.
+      const Vec3 along = to_tree != nullptr ? Vec3(box.axes.transpose() * (to_tree->rotation * d))
+                                            : Vec3(sign * box.axes.row(k).transpose());
       double exit = std::numeric_limits<double>::infinity();
       for (int i = 0; i < 3; ++i) {
         if (along[i] == 0.0) continue;
@@ -272,6 +278,114 @@ Containment classify_point_checked(const Tree& tree, const Mesh& mesh, const Vec
                                    std::vector<std::uint32_t>& stack) {
   return classify_with_tree(
       tree, mesh, [&](std::uint32_t v) -> const Vec3& { return mesh.vertices[v]; }, nullptr, p, stack);
+}
+
+// The first ray of classify_with_tree (along the coordinate axis of shortest_exit, over the same
+// length) through the wide nodes. The segment pq, q = p + L d with d = s e_k, is the box of the
+// kernel's A side: its ref the midpoint m = fl((p + q) / 2) (a double), axes the rows s e_k,
+// e_(k+1), s e_(k+2) (exact, orthonormal, determinant 1: eta 0), center 0 and half extents
+// (h, 0, 0) with h >= |p_k - m_k| and |q_k - m_k| rounded up to a float: p and q differ from m
+// only in coordinate k, so the box contains the segment. Each node of B (the mesh's wide tree,
+// frame the identity) is met with its ref's exact offset from m rounded by wide_pair, and the
+// kernel's guarantee (wide_nodes.hpp: it never separates two boxes that share a point) keeps
+// every child box the segment meets; leaves go through meet() as in classify_with_tree.
+WideRays::WideRays(const Tree& tree, const WideTree& wide)
+    : root(tree.nodes.empty() ? Obb{} : box_of(tree.nodes[0])),
+      root_scale(tree.nodes.empty() ? 0.0 : box_scale(tree.nodes[0].box)),
+      frame(wide_frame(Pose::identity(), 0.0, wide.eta, 0.0)) {}
+
+Containment classify_point_wide(const Tree& tree, const WideTree& wide, const WideRays& rays, const Mesh& mesh,
+                                const Vec3& p, std::vector<WideRayItem>& wide_stack,
+                                std::vector<std::uint32_t>& stack) {
+  if (tree.nodes.empty() || wide.nodes.empty()) return Containment::outside;
+  const Obb& root = rays.root;
+  const double margin = kBoxMargin * (rays.root_scale + p.cwiseAbs().maxCoeff());
+  if (!root.contains(p, margin)) return Containment::outside;
+  const Vec3 d = shortest_exit(root, nullptr, p);
+  const Vec3 q = p + ray_length(p, root.center, root.half_extents) * d;
+  int k = 0;
+  while (d[k] == 0.0) ++k;
+  const double sign = d[k];
+  if (q == p || !q.allFinite()) return classify_with_tree(tree, mesh, [&](std::uint32_t v) -> const Vec3& { return mesh.vertices[v]; }, nullptr, p, stack);
+  const Vec3 mid(k == 0 ? 0.5 * (p[0] + q[0]) : p[0], k == 1 ? 0.5 * (p[1] + q[1]) : p[1],
+                 k == 2 ? 0.5 * (p[2] + q[2]) : p[2]);
+  const double reach = std::max(std::abs(p[k] - mid[k]), std::abs(q[k] - mid[k])) * (1.0 + 0x1p-50);
+  WideBox segment{};
+  const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+  segment.axes[k] = static_cast<float>(sign);
+  segment.axes[3 + k1] = 1.0f;
+  segment.axes[6 + k2] = static_cast<float>(sign);
+  segment.half[0] = std::nextafter(static_cast<float>(reach), std::numeric_limits<float>::infinity());
+  const WideFrame& frame = rays.frame;
+  // hoist() of the segment for each node, its M (constant: the frame is the identity) computed
+  // once. The node's ref in the segment's frame is wide_pair's t and t_err written out for R0 = I
+  // and t0 = 0: the products by 1 and 0 and the additions of 0 that wide_pair makes are exact, so
+  // these are its values bit for bit; tn and base are hoist's, operation for operation (the
+  // segment's center is 0, so d = t).
+  const WideHoisted hoisted = hoist(frame, WidePair{{0.0f, 0.0f, 0.0f}, 0.0f}, segment);
+  // Its M: row i is the segment's axis i, s e_k, e_(k+1), s e_(k+2) (the frame is the identity).
+  const WidePermutation perm{{k, k1, k2}, {static_cast<float>(sign), 1.0f, static_cast<float>(sign)}};
+  const float half_sum = segment.half[0] + segment.half[1] + segment.half[2] + frame.margin;
+  const auto place = [&](const Vec3& ref) {
+    WideHoisted h = hoisted;
+    double err = 0.0;
+    float t[3];
+    for (int i = 0; i < 3; ++i) {
+      const double x = ref[i] - mid[i];
+      t[i] = static_cast<float>(x);
+      err = std::max(err, std::abs(x - static_cast<double>(t[i])) +
+                              0x1p-50 * (std::abs(ref[i]) + std::abs(mid[i])) * (1.0 + 0x1p-50));
+    }
+    const float t_err = static_cast<float>(err * (1.0 + 0x1p-20) + 1e-30);
+    const float dd[3] = {t[0] - segment.center[0], t[1] - segment.center[1], t[2] - segment.center[2]};
+    for (int i = 0; i < 3; ++i)
+      h.tn[i] = segment.axes[3 * i] * dd[0] + segment.axes[3 * i + 1] * dd[1] + segment.axes[3 * i + 2] * dd[2];
+    const float d1 = std::abs(dd[0]) + std::abs(dd[1]) + std::abs(dd[2]);
+    h.base = frame.kappa * half_sum + 10.0f * kUnitRoundoff * d1 + 4.0f * t_err + frame.margin;
+    return h;
+  };
+  Ray ray;
+  // The kept children of a node: internal ones onto the stack, leaves' triangles met. False once
+  // p is found on the surface.
+  const auto visit = [&](const WideRayItem& item, const WideNode& node, unsigned kept) {
+    for (; kept != 0; kept &= kept - 1) {
+      const int lane = std::countr_zero(kept);
+      const std::int32_t child = node.child[lane];
+      if (child > 0) {
+        wide_stack.push_back({child, child_ref(item.ref, node, lane)});
+        continue;
+      }
+      const WideTree::LeafRange leaf = wide.leaf(child);
+      for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
+        const Triangle& t = mesh.triangles[tree.triangle_order[i]];
+        if (!add_meeting(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]], p, q, ray)) return false;
+      }
+    }
+    return true;
+  };
+  // Two nodes a kernel call where the CPU has AVX2 (wide_overlap2: the same lanes' decisions),
+  // taken in the order they were found (a queue: the nodes a ray meets at one depth wait
+  // together, so that there are two to pair more often than on a stack; parity does not depend
+  // on the order).
+  const bool avx2 = avx2_bounds_available();
+  wide_stack.clear();
+  wide_stack.push_back({0, wide.root_ref});
+  for (std::size_t next = 0; next < wide_stack.size();) {
+    const WideRayItem x = wide_stack[next++];
+    const WideNode& nx = wide.nodes[static_cast<std::size_t>(x.node)];
+    if (next == wide_stack.size()) {
+      if (!visit(x, nx, wide_overlap_permuted(place(x.ref), perm, nx))) return Containment::on_surface;
+      continue;
+    }
+    const WideRayItem y = wide_stack[next++];
+    const WideNode& ny = wide.nodes[static_cast<std::size_t>(y.node)];
+    const unsigned both = wide_overlap2_permuted(place(x.ref), nx, place(y.ref), ny, perm, avx2);
+    if (!visit(x, nx, both & 0xFu) || !visit(y, ny, both >> 4)) return Containment::on_surface;
+  }
+  if (ray.on_surface) return Containment::on_surface;
+  if (!ray.degenerate) return ray.odd ? Containment::inside : Containment::outside;
+  return classify_with_tree(tree, mesh, [&](std::uint32_t v) -> const Vec3& { return mesh.vertices[v]; }, nullptr, p,
+                            stack);
 }
 
 SolidMeshes::SolidMeshes(const char* query, const Mesh& ma, const Closedness* given_a, const Mesh& mb,

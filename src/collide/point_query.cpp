@@ -103,6 +103,7 @@ struct Pending {
 struct Scratch {
   std::vector<Pending> heap;
   std::vector<std::uint32_t> ray_stack;  // classify_point's node stack
+  std::vector<query_detail::WideRayItem> wide_stack;  // classify_point_wide's
   std::uint32_t last = kNoTriangle;
 };
 
@@ -306,6 +307,8 @@ std::vector<ClosestPoint> signed_distance(const Model& model, const Pose& pose, 
   require_model_closed(model, "signed_distance");
   check_input("signed_distance", nullptr, model.mesh(), pose, points);
   const Pose inverse = pose.inverse();
+  const query_detail::WideTree& wide = query_detail::wide_of(model);
+  const query_detail::WideRays rays(model.tree(), wide);
   const std::vector<std::uint32_t> order = morton_order(points);
   std::vector<ClosestPoint> results(points.size());
   for_each_point(points.size(), options.threads, [&](std::size_t k, Scratch& scratch) {
@@ -314,7 +317,8 @@ std::vector<ClosestPoint> signed_distance(const Model& model, const Pose& pose, 
     const Best best = search(model.tree(), model.mesh(), local, options.max_distance, scratch.last, scratch.heap);
     scratch.last = best.triangle;
     ClosestPoint r = to_result(best, pose, points[i], options.max_distance);
-    switch (query_detail::classify_point_checked(model.tree(), model.mesh(), local, scratch.ray_stack)) {
+    switch (query_detail::classify_point_wide(model.tree(), wide, rays, model.mesh(), local, scratch.wide_stack,
+                                              scratch.ray_stack)) {
       case Containment::inside: r.distance = -r.distance; break;
       case Containment::on_surface: r.distance = 0.0; break;
       case Containment::outside: break;
@@ -329,10 +333,13 @@ std::vector<Containment> contains(const Model& model, const Pose& pose, std::spa
   require_model_closed(model, "contains");
   check_input("contains", nullptr, model.mesh(), pose, points);
   const Pose inverse = pose.inverse();
+  const query_detail::WideTree& wide = query_detail::wide_of(model);
+  const query_detail::WideRays rays(model.tree(), wide);
   std::vector<Containment> results(points.size());
   for_each_point(points.size(), threads, [&](std::size_t i, Scratch& scratch) {
-    results[i] = query_detail::classify_point_checked(model.tree(), model.mesh(), to_mesh_frame(inverse, points[i]),
-                                                      scratch.ray_stack);
+    results[i] = query_detail::classify_point_wide(model.tree(), wide, rays, model.mesh(),
+                                                   to_mesh_frame(inverse, points[i]), scratch.wide_stack,
+                                                   scratch.ray_stack);
   });
   return results;
 }

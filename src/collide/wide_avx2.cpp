@@ -91,6 +91,16 @@ template <class H>
 
 }  // namespace
 
+unsigned wide_overlap2_permuted_avx2(const WideHoisted& h0, const WideNode& b0, const WideHoisted& h1,
+                                     const WideNode& b1, const WidePermutation& a) {
+  WideLanes<F8> l;
+  a_sides(l, h0, h1);
+  b_sides(l, b0, b1);
+  const F8 signs[3] = {splat8(a.s[0]), splat8(a.s[1]), splat8(a.s[2])};
+  const M8 sep = wide_separated_given<WideTier::full, F8, M8>(l, wide_relative_permuted(l, a, signs));
+  return ~static_cast<unsigned>(_mm256_movemask_ps(sep.v)) & 0xFFu;
+}
+
 unsigned wide_overlap2_avx2(const WideHoisted& h0, const WideNode& b0, const WideHoisted& h1, const WideNode& b1) {
   return overlap2(h0, b0, h1, b1);
 }

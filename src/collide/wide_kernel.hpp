@@ -94,6 +94,31 @@ template <class V>
   return x;
 }
 
+// wide_relative when A's hoisted M is a signed permutation (an axis-aligned box of A in an identity
+// frame: the rays of classify_point_wide): row i of M is s_i e_(p_i). The products and sums of
+// wide_relative then have two exact zero terms each, so reading s_i bx_(j, p_i) and adding
+// s_i cb_(p_i) gives the same values (up to the sign of a zero, which only ever meets lane_abs or
+// a product summed with others), and the kernel the same decisions, without the 36 products.
+struct WidePermutation {
+  int p[3];
+  float s[3];
+};
+// `signs`: a.s splatted in V's lanes.
+template <class V>
+[[nodiscard]] inline WideRelative<V> wide_relative_permuted(const WideLanes<V>& l, const WidePermutation& a,
+                                                           const V (&signs)[3]) {
+  WideRelative<V> x;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) x.r[i][j] = signs[i] * l.bx[3 * j + a.p[i]];
+    x.t[i] = l.tn[i] + signs[i] * l.cb[a.p[i]];
+  }
+  x.allow = l.kappa * (lane_abs(x.t[0]) + lane_abs(x.t[1]) + lane_abs(x.t[2]) + (l.eb[0] + l.eb[1] + l.eb[2])) +
+            l.center_factor * (lane_abs(l.cb[0]) + lane_abs(l.cb[1]) + lane_abs(l.cb[2])) + l.base;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) x.abs_r[i][j] = lane_abs(x.r[i][j]);
+  return x;
+}
+
 // One axis as both kernels weigh it: |L| (the centers' offset along it) and reach = the two
 // radii plus the allowance; the axis separates the boxes when offset > reach. The formulas whose
 // error the allowance bounds (wide_nodes.hpp), written once.
@@ -129,8 +154,7 @@ template <class V>
 // kTier is faces, the 9 edge axes; stops early when every lane is separated. Needs, for V and
 // its mask M: + - *, lane_abs, lane_gt (false on NaN), M | M and all_lanes.
 template <WideTier kTier, class V, class M>
-[[nodiscard]] inline M wide_separated(const WideLanes<V>& l) {
-  const WideRelative<V> x = wide_relative(l);
+[[nodiscard]] inline M wide_separated_given(const WideLanes<V>& l, const WideRelative<V>& x) {
   const auto separates = [](const WideAxis<V>& a) { return lane_gt(a.offset, a.reach); };
   // A's face normals.
   M sep = separates(a_face(l, x, 0));
@@ -145,6 +169,10 @@ template <WideTier kTier, class V, class M>
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) sep = sep | separates(edge(l, x, i, j));
   return sep;
+}
+template <WideTier kTier, class V, class M>
+[[nodiscard]] inline M wide_separated(const WideLanes<V>& l) {
+  return wide_separated_given<kTier, V, M>(l, wide_relative(l));
 }
 
 // A lower bound on the distance between A's hoisted box and each lane's box of B (margin 0 in

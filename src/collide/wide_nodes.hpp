@@ -412,7 +412,24 @@ inline void wide_distance_bounds(const H& h, const WideNode& b, const WideBoundC
   for (int k = 0; k < kWideLanes; ++k) bounds[k] = raw[k];
 }
 
+/// wide_overlap for a hoisted box whose M is the signed permutation `a` (wide_relative_permuted):
+/// the same mask, bit for bit.
+template <class V = F4>
+[[nodiscard]] inline unsigned wide_overlap_permuted(const WideHoisted& h, const WidePermutation& a, const WideNode& b) {
+  using Ops = LaneOps<V>;
+  WideLanes<V> l;
+  a_side(l, h);
+  b_side(l, b);
+  const V signs[3] = {Ops::splat(a.s[0]), Ops::splat(a.s[1]), Ops::splat(a.s[2])};
+  return ~Ops::bits(wide_separated_given<WideTier::full, V, typename Ops::Mask>(l, wide_relative_permuted(l, a, signs))) &
+         0xFu;
+}
+
 #ifdef TIGHTBVH_WIDE_AVX2
+/// wide_overlap2_avx2 for two hoisted boxes whose M is the signed permutation `a`
+/// (wide_overlap_permuted in eight lanes), bit for bit.
+[[nodiscard]] unsigned wide_overlap2_permuted_avx2(const WideHoisted& h0, const WideNode& b0, const WideHoisted& h1,
+                                                   const WideNode& b1, const WidePermutation& a);
 /// Two boxes of A against the four children of a node of B each, in eight AVX2 lanes (wide_avx2.cpp):
 /// bits 0-3 are wide_overlap(h0, b0), bits 4-7 wide_overlap(h1, b1), bit for bit (same operations,
 /// no FMA). Only where avx2_bounds_available() (box_bounds4.hpp).
@@ -435,6 +452,15 @@ template <class H>
 #endif
   (void)avx2;
   return wide_overlap(h0, b0) | wide_overlap(h1, b1) << 4;
+}
+/// wide_overlap2 of two hoisted boxes whose M is the signed permutation `a`.
+[[nodiscard]] inline unsigned wide_overlap2_permuted(const WideHoisted& h0, const WideNode& b0, const WideHoisted& h1,
+                                                     const WideNode& b1, const WidePermutation& a, bool avx2) {
+#ifdef TIGHTBVH_WIDE_AVX2
+  if (avx2) return wide_overlap2_permuted_avx2(h0, b0, h1, b1, a);
+#endif
+  (void)avx2;
+  return wide_overlap_permuted(h0, a, b0) | wide_overlap_permuted(h1, a, b1) << 4;
 }
 
 }  // namespace tightbvh::query_detail

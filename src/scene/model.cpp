@@ -92,6 +92,8 @@ std::size_t Model::bytes() const {
          closedness_.pieces.capacity() * sizeof(std::uint32_t) + closedness_.problem.capacity();
 }
 
+const query_detail::WideTree& query_detail::wide_of(const Model& model) { return *model.wide_; }
+
 ModelPtr make_model(Mesh mesh, const BuildOptions& options) {
   return std::make_shared<const Model>(std::move(mesh), options);
 }

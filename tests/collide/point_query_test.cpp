@@ -258,6 +258,59 @@ TEST(PointQuery, SignAndContainsAreClassifyPoint) {
   EXPECT_EQ(sd[3].distance, 0.0);
 }
 
+// contains() and signed_distance() on a Model shoot their first ray through the model's wide
+// nodes (classify_point_wide): the same sides as classify_point on the tree and the brute force,
+// for random points, grid points on the coordinate planes of a CAD mesh (rays along its faces and
+// through its edges and vertices, which go on to the tree's re-shot rays), the mesh's vertices
+// and edge midpoints (on the surface), at scales 1e-3 to 1e4 and offsets up to 1e6.
+TEST(PointQuery, ContainsOnWideNodesIsClassifyPoint) {
+  std::mt19937_64 rng(38);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::size_t count[3] = {0, 0, 0};
+  for (const char* name : {"meshes/fandisk.off", "meshes/knot1.off"}) {
+    for (const double scale : {1e-3, 1.0, 1e4}) {
+      for (const double offset : {0.0, 1e6}) {
+        SCOPED_TRACE(std::string(name) + " scale " + std::to_string(scale) + " offset " + std::to_string(offset));
+        Mesh m = shipped(name);
+        const Vec3 shift = offset * Vec3(unit(rng), unit(rng), unit(rng));
+        for (Vec3& v : m.vertices) v = scale * v + shift;
+        const ModelPtr model = make_model(m, {.fitter = scale == 1.0 ? Fitter{FitMethod::approx} : Fitter{AutoFit{}}});
+        ASSERT_TRUE(model->closedness().closed);
+        Aabb box;
+        for (const Vec3& v : m.vertices) box.extend(v);
+        std::vector<Vec3> points;
+        for (int i = 0; i < 150; ++i) {
+          Vec3 p;
+          for (int k = 0; k < 3; ++k) p[k] = box.min[k] + (unit(rng) * 1.1 - 0.05) * (box.max[k] - box.min[k]);
+          points.push_back(p);
+        }
+        for (int i = 0; i < 8; ++i)  // a grid through the box, on the mesh's own coordinates
+          for (int j = 0; j < 8; ++j)
+            points.push_back({m.vertices[(i * 37) % m.vertices.size()].x(), m.vertices[(j * 53) % m.vertices.size()].y(),
+                              m.vertices[((i + j) * 71) % m.vertices.size()].z()});
+        for (std::size_t t = 0; t < m.triangles.size(); t += m.triangles.size() / 40 + 1) {
+          const auto [a, b, c] = m.corners(static_cast<std::uint32_t>(t));
+          points.push_back(a);
+          points.push_back(0.5 * (a + b));
+        }
+        const std::vector<Containment> got = contains(*model, Pose::identity(), points);
+        const std::vector<ClosestPoint> sd = signed_distance(*model, Pose::identity(), points);
+        for (std::size_t i = 0; i < points.size(); ++i) {
+          const Containment want = classify_point(model->tree(), m, model->closedness(), points[i]);
+          ASSERT_EQ(got[i], want) << "point " << i;
+          if (i % 5 == 0) ASSERT_EQ(want, classify_point_brute_force(m, model->closedness(), points[i])) << i;
+          // The sign bit (an inside point at a rounded-off distance 0 gets -0).
+          EXPECT_EQ(std::signbit(sd[i].distance), want == Containment::inside) << i;
+          ++count[static_cast<int>(want)];
+        }
+      }
+    }
+  }
+  EXPECT_GT(count[static_cast<int>(Containment::inside)], 100u);
+  EXPECT_GT(count[static_cast<int>(Containment::outside)], 100u);
+  EXPECT_GT(count[static_cast<int>(Containment::on_surface)], 100u);
+}
+
 TEST(PointQuery, BadInputIsAnInputErrorNamingIt) {
   const ModelPtr closed = make_model(cube());
   const ModelPtr open = make_model(shipped("meshes/corpus/cgal/cube-ouvert.off"));

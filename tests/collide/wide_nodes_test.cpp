@@ -4,7 +4,8 @@
 // real tree that the double test obb_overlap() keeps; and it is not much more conservative than
 // needed (boxes that the double test separates by a small relative gap are culled). Also the
 // wide tree's structure (every triangle once, refs as the descent computes them) and its memory;
-// and the eight-lane AVX2 kernel and the portable lanes decide as the four-lane one. The float
+// and the eight-lane AVX2 kernel, the portable lanes and the kernel for a signed-permutation M
+// (contains()' rays) decide as the four-lane one. The float
 // distance bound (wide_distance_bounds) never exceeds the boxes' exact distance (measured between
 // their faces' triangles), is 0 for boxes that share a point, and is close to the double bound.
 #include "collide/wide_nodes.hpp"
@@ -15,6 +16,7 @@
 
 #include "collide/box_bounds4.hpp"
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -470,6 +472,64 @@ TEST(WideNodes, KeepsEveryRealNodePairTheDoubleTestKeeps) {
   EXPECT_GT(kept_double, 1000u);
   std::printf("[ wide     ] %zu real box pairs: double keeps %zu, float keeps %zu, swapped float keeps %zu\n", tested,
               kept_double, kept_float, kept_swapped);
+}
+
+// The kernel with A's M a signed permutation (wide_overlap_permuted: the rays of contains())
+// decides as the generic kernel, bit for bit, in four SSE lanes, the portable lanes and eight
+// AVX2 lanes: axis-aligned boxes of A (segments and flat boxes too) of every orientation sign,
+// at scales 1e-3 to 1e4 and offsets up to 1e6, against the nodes of wide trees over a sphere and
+// a soup of random triangles (no mesh file: scripts/check-aarch64 runs it on the portable lanes).
+TEST(WideNodes, PermutedKernelIsTheKernel) {
+  std::mt19937_64 rng(3801);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const bool avx2 = avx2_bounds_available();
+  std::size_t calls = 0, kept_lanes = 0, differ = 0;
+  for (const double scale : {1e-3, 1.0, 1e4}) {
+    for (const double offset : {0.0, 1e6}) {
+      Mesh mesh = offset == 0.0 ? query_test::uv_sphere(20, 30) : query_test::random_soup(600, 3802);
+      const Vec3 shift = offset * Vec3(unit(rng), unit(rng), unit(rng));
+      for (Vec3& v : mesh.vertices) v = scale * v + shift;
+      const Tree tree = build(mesh);
+      const WideTree wide = build_wide(tree);
+      const Obb root = tree.nodes[0].box.obb();
+      const WideFrame f = wide_frame(Pose::identity(), 0.0, wide.eta, 0.0);
+      for (int trial = 0; trial < 40; ++trial) {
+        const int k = trial % 3, k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+        const float sign = trial % 2 == 0 ? 1.0f : -1.0f;
+        WideBox a{};
+        a.axes[k] = sign;
+        a.axes[3 + k1] = 1.0f;
+        a.axes[6 + k2] = sign;
+        const double size = root.half_extents.norm();
+        for (int i = 0; i < 3; ++i)
+          a.half[i] = trial % 4 == 3 && i > 0 ? 0.0f : static_cast<float>(size * (0.01 + std::abs(unit(rng))));
+        const Vec3 ref = root.center + 0.8 * size * Vec3(unit(rng), unit(rng), unit(rng));
+        const WidePermutation perm{{k, k1, k2}, {sign, 1.0f, sign}};
+        // A walk down the wide tree along the kept lanes (the descent's refs), testing every node.
+        std::vector<std::pair<std::int32_t, Vec3>> stack{{0, wide.root_ref}};
+        while (!stack.empty()) {
+          const auto [n, node_ref] = stack.back();
+          stack.pop_back();
+          const WideNode& node = wide.nodes[static_cast<std::size_t>(n)];
+          const WideHoisted h = hoist(f, wide_pair(f, ref, node_ref), a);
+          const unsigned kept = wide_overlap(h, node);
+          ++calls;
+          if (wide_overlap_permuted(h, perm, node) != kept) ++differ;
+          if (wide_overlap_permuted<P4>(h, perm, node) != kept) ++differ;
+          if (wide_overlap2_permuted(h, node, h, wide.nodes[0], perm, avx2) != (kept | wide_overlap(h, wide.nodes[0]) << 4))
+            ++differ;
+          for (unsigned m = kept; m != 0; m &= m - 1) {
+            const int lane = std::countr_zero(m);
+            ++kept_lanes;
+            if (node.child[lane] > 0) stack.push_back({node.child[lane], child_ref(node_ref, node, lane)});
+          }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(differ, 0u) << (avx2 ? "AVX2" : "two four-lane calls");
+  EXPECT_GT(calls, 1000u);
+  EXPECT_GT(kept_lanes, 1000u);
 }
 
 }  // namespace

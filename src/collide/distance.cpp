@@ -804,12 +804,25 @@ bool apply_penetration(const Deepest& da, const Deepest& db, const Mesh& ma, con
 // With a tree: classify_point and closest_points on the tree, the root box as a cull; without
 // (the brute-force reference): their brute-force versions, no cull. The same frames and the same
 // point–triangle distance, so both give the same answer bit for bit.
-Deepest deepest_vertex(const Mesh& from, const Pose& map, const Tree* into_tree, const Mesh& into,
-                       const Closedness& closed) {
+// With `into_wide` (the wide nodes of into_tree, on models) the points are classified by
+// classify_point_wide, the same answers.
+Deepest deepest_vertex(const Mesh& from, const Pose& map, const Tree* into_tree, const query_detail::WideTree* into_wide,
+                       const Mesh& into, const Closedness& closed) {
   std::vector<Vec3> points;
   std::vector<std::uint32_t> indices;
   PointQueryOptions sequential;
   sequential.threads = 1;  // one query; distance_batch runs the queries in parallel
+  if (into_tree != nullptr && into_wide != nullptr) {
+    const query_detail::WideRays rays(*into_tree, *into_wide);
+    std::vector<query_detail::WideRayItem> wide_stack;
+    std::vector<std::uint32_t> stack;
+    inside_vertices(
+        from, map, &into_tree->nodes[0].box,
+        [&](const Vec3& p) { return query_detail::classify_point_wide(*into_tree, *into_wide, rays, into, p, wide_stack, stack); },
+        points, indices);
+    const std::vector<ClosestPoint> closest = closest_points(*into_tree, into, Pose::identity(), points, sequential);
+    return deepest_of(points, indices, closest);
+  }
   if (into_tree != nullptr) {
     inside_vertices(from, map, &into_tree->nodes[0].box,
                     [&](const Vec3& p) { return classify_point(*into_tree, into, closed, p); }, points, indices);
@@ -828,15 +841,16 @@ Deepest deepest_vertex(const Mesh& from, const Pose& map, const Tree* into_tree,
 // touching, leaves the answer 0 and flags it (the solids touch or cross along edges). With the
 // trees when `ta` and `tb` are given, else brute force.
 void apply_signed(const Tree* ta, const Mesh& ma, const Pose& pa, const Tree* tb, const Mesh& mb, const Pose& pb,
-                  const Pose& rel, const query_detail::SolidMeshes& solid, double upper_bound, DistanceResult& result) {
+                  const Pose& rel, const query_detail::SolidMeshes& solid, double upper_bound, DistanceResult& result,
+                  const query_detail::WideTree* wa = nullptr, const query_detail::WideTree* wb = nullptr) {
   const bool apart = result.beyond_upper_bound ? upper_bound > 0.0 : result.distance > 0.0;
   if (apart) {
     const query_detail::SolidHit hit =
         ta != nullptr ? solid.overlap(*ta, ma, *tb, mb, rel) : solid.overlap_brute_force(ma, mb, rel);
     if (hit.inside == Inside::none) return;
   }
-  const Deepest da = deepest_vertex(ma, rel.inverse(), tb, mb, solid.b());
-  const Deepest db = deepest_vertex(mb, rel, ta, ma, solid.a());
+  const Deepest da = deepest_vertex(ma, rel.inverse(), tb, wb, mb, solid.b());
+  const Deepest db = deepest_vertex(mb, rel, ta, wa, ma, solid.a());
   if (apply_penetration(da, db, ma, mb, pa, pb, result) || result.beyond_upper_bound) return;
   result.penetration_lower_bound_is_zero = true;
   // The bound says nothing of how far the surfaces cross: measure their intersection curve.
@@ -852,7 +866,9 @@ namespace {
 // distance() over the binary trees, or over their wide nodes when wa and wb are given.
 DistanceResult distance_on(const Tree& a, const query_detail::WideTree* wa, const Mesh& ma, const Pose& pa,
                            const Tree& b, const query_detail::WideTree* wb, const Mesh& mb, const Pose& pb,
-                           const DistanceOptions& options, QueryWorkspace& workspace) {
+                           const DistanceOptions& options, QueryWorkspace& workspace,
+                           const query_detail::WideTree* classify_a = nullptr,
+                           const query_detail::WideTree* classify_b = nullptr) {
   check_options(options);
   if (a.nodes.empty() || b.nodes.empty()) {
     DistanceResult empty;
@@ -872,7 +888,7 @@ DistanceResult distance_on(const Tree& a, const query_detail::WideTree* wa, cons
   DistanceResult result = make_result(search.best(), pa, rel, options.upper_bound);
   result.stats = search.stats();
   if (options.signed_distance) {
-    apply_signed(&a, ma, pa, &b, mb, pb, rel, *solid, options.upper_bound, result);
+    apply_signed(&a, ma, pa, &b, mb, pb, rel, *solid, options.upper_bound, result, classify_a, classify_b);
     return result;
   }
   if (solid && result.distance > 0.0) apply_solid(solid->overlap(a, ma, b, mb, rel), pa, result);
@@ -890,6 +906,12 @@ DistanceResult query_detail::distance_wide(const Tree& a, const WideTree& wa, co
                                            const Tree& b, const WideTree& wb, const Mesh& mb, const Pose& pb,
                                            const DistanceOptions& options, QueryWorkspace& workspace) {
   return distance_on(a, &wa, ma, pa, b, &wb, mb, pb, options, workspace);
+}
+
+DistanceResult query_detail::distance_models(const Tree& a, const WideTree& wa, const Mesh& ma, const Pose& pa,
+                                             const Tree& b, const WideTree& wb, const Mesh& mb, const Pose& pb,
+                                             const DistanceOptions& options, QueryWorkspace& workspace) {
+  return distance_on(a, nullptr, ma, pa, b, nullptr, mb, pb, options, workspace, &wa, &wb);
 }
 
 DistanceResult distance(const Tree& a, const Mesh& ma, const Pose& pa, const Tree& b, const Mesh& mb, const Pose& pb,

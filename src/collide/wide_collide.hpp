@@ -161,4 +161,10 @@ struct WideTraceSink {
                                            const Tree& b, const WideTree& wb, const Mesh& mb, const Pose& pb,
                                            const DistanceOptions& options, QueryWorkspace& workspace);
 
+/// distance() of two models: the search on the binary trees (distance()'s), the vertices that
+/// signed_distance classifies through the wide nodes (classify_point_wide): the same answer.
+[[nodiscard]] DistanceResult distance_models(const Tree& a, const WideTree& wa, const Mesh& ma, const Pose& pa,
+                                             const Tree& b, const WideTree& wb, const Mesh& mb, const Pose& pb,
+                                             const DistanceOptions& options, QueryWorkspace& workspace);
+
 }  // namespace tightbvh::query_detail

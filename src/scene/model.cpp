@@ -229,12 +229,15 @@ CollideTrace collide_trace(const Model& a, const Pose& pa, const Model& b, const
 
 DistanceResult distance(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
                         const DistanceOptions& options) {
-  return distance(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, with_closedness(a, b, options));
+  QueryWorkspace workspace;
+  return distance(a, pa, b, pb, options, workspace);
 }
 
+// The binary trees' search; signed_distance's vertices classified through the wide nodes.
 DistanceResult distance(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
                         const DistanceOptions& options, QueryWorkspace& workspace) {
-  return distance(a.tree(), a.mesh(), pa, b.tree(), b.mesh(), pb, with_closedness(a, b, options), workspace);
+  return query_detail::distance_models(a.tree(), query_detail::wide_of(a), a.mesh(), pa, b.tree(),
+                                       query_detail::wide_of(b), b.mesh(), pb, with_closedness(a, b, options), workspace);
 }
 
 }  // namespace tightbvh

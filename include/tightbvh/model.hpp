@@ -23,15 +23,12 @@
 
 namespace tightbvh {
 
-namespace query_detail {
-struct WideTree;  // src/collide/wide_nodes.hpp: the query-time nodes, internal
-}
 class Model;
 namespace query_detail {
+struct WideTree;  // src/collide/wide_nodes.hpp: the query-time nodes, internal
 /// Internal: the model's wide nodes, for the queries in src/collide/.
 [[nodiscard]] const WideTree& wide_of(const Model& model);
 }  // namespace query_detail
-class Model;
 namespace scene_detail {
 /// Internal: collide() of two models whose poses the caller has checked (the scenes, which check
 /// them when they are set); collide() on models checks them, then calls this.
@@ -75,7 +72,6 @@ class Model {
 
   friend QueryResult scene_detail::collide_checked(const Model&, const Pose&, const Model&, const Pose&,
                                                    const QueryOptions&, QueryWorkspace&);
-  friend QueryResult collide(const Model&, const Pose&, const Model&, const Pose&, const QueryOptions&, QueryCache&);
   friend const query_detail::WideTree& query_detail::wide_of(const Model&);
 };
 
@@ -108,9 +104,8 @@ using ModelPtr = std::shared_ptr<const Model>;
 /// it if it still touches (stats: 0 box tests, 1 triangle test); otherwise the wide descent answers
 /// and its pair becomes the witness. all_pairs is the wide descent, as without the cache (no
 /// front is kept on these nodes: docs/design-notes/collide.md, "QueryCache: front tracking, kept
-/// but narrow", says why). With another
-/// descend rule than the default, the trees' collide() with the cache answers (its front).
-/// Errors as collide() on models.
+/// but narrow", says why). With another descend rule than the default, the trees' collide() with
+/// the cache answers (its front). Errors as collide() on models.
 [[nodiscard]] QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& pb,
                                   const QueryOptions& options, QueryCache& cache);
 /// collide() of two posed models with its descent recorded (collide_trace.hpp): the wide descent

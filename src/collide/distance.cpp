@@ -816,10 +816,10 @@ Deepest deepest_vertex(const Mesh& from, const Pose& map, const Tree* into_tree,
     const query_detail::WideRays rays(*into_tree, *into_wide);
     std::vector<query_detail::WideRayItem> wide_stack;
     std::vector<std::uint32_t> stack;
-    inside_vertices(
-        from, map, &into_tree->nodes[0].box,
-        [&](const Vec3& p) { return query_detail::classify_point_wide(*into_tree, *into_wide, rays, into, p, wide_stack, stack); },
-        points, indices);
+    const auto classify = [&](const Vec3& p) {
+      return query_detail::classify_point_wide(*into_tree, *into_wide, rays, into, p, wide_stack, stack);
+    };
+    inside_vertices(from, map, &into_tree->nodes[0].box, classify, points, indices);
     const std::vector<ClosestPoint> closest = closest_points(*into_tree, into, Pose::identity(), points, sequential);
     return deepest_of(points, indices, closest);
   }

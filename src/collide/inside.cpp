@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "../geometry/predicates.hpp"
-#include "query_common.hpp"
 #include "box_bounds4.hpp"
+#include "query_common.hpp"
 #include "solid.hpp"
 #include "wide_nodes.hpp"
 
@@ -306,7 +306,8 @@ Containment classify_point_wide(const Tree& tree, const WideTree& wide, const Wi
   int k = 0;
   while (d[k] == 0.0) ++k;
   const double sign = d[k];
-  if (q == p || !q.allFinite()) return classify_with_tree(tree, mesh, [&](std::uint32_t v) -> const Vec3& { return mesh.vertices[v]; }, nullptr, p, stack);
+  const auto corner = [&](std::uint32_t v) -> const Vec3& { return mesh.vertices[v]; };
+  if (q == p || !q.allFinite()) return classify_with_tree(tree, mesh, corner, nullptr, p, stack);
   const Vec3 mid(k == 0 ? 0.5 * (p[0] + q[0]) : p[0], k == 1 ? 0.5 * (p[1] + q[1]) : p[1],
                  k == 2 ? 0.5 * (p[2] + q[2]) : p[2]);
   const double reach = std::max(std::abs(p[k] - mid[k]), std::abs(q[k] - mid[k])) * (1.0 + 0x1p-50);
@@ -384,8 +385,7 @@ Containment classify_point_wide(const Tree& tree, const WideTree& wide, const Wi
   }
   if (ray.on_surface) return Containment::on_surface;
   if (!ray.degenerate) return ray.odd ? Containment::inside : Containment::outside;
-  return classify_with_tree(tree, mesh, [&](std::uint32_t v) -> const Vec3& { return mesh.vertices[v]; }, nullptr, p,
-                            stack);
+  return classify_with_tree(tree, mesh, corner, nullptr, p, stack);
 }
 
 SolidMeshes::SolidMeshes(const char* query, const Mesh& ma, const Closedness* given_a, const Mesh& mb,

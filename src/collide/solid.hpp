@@ -58,11 +58,6 @@ struct WideRayItem {
   std::int32_t node;
   Vec3 ref;
 };
-// classify_point_checked over the tree's wide nodes (`wide` = build_wide(tree)): the first ray,
-// along a coordinate axis, meets the nodes' boxes four at a time in the float kernel (the
-// segment is a box of extents (L/2, 0, 0): inside.cpp); a ray that meets the surface
-// degenerately goes to classify_point_checked. The same answer (parity is exact for any ray
-// that meets no edge or vertex).
 // What classify_point_wide needs of the trees for every point, computed once: the root's box, its
 // scale for the containment margin, and the kernel's frame (the identity).
 struct WideRays {
@@ -71,6 +66,11 @@ struct WideRays {
   double root_scale;
   WideFrame frame;
 };
+// classify_point_checked over the tree's wide nodes (`wide` = build_wide(tree), `rays` of both):
+// the first ray, along a coordinate axis, meets the nodes' boxes four at a time in the float
+// kernel (the segment is a box of extents (L/2, 0, 0): inside.cpp); a ray that meets the surface
+// degenerately goes to classify_point_checked. The same answer (parity is exact for any ray that
+// meets no edge or vertex).
 [[nodiscard]] Containment classify_point_wide(const Tree& tree, const WideTree& wide, const WideRays& rays,
                                               const Mesh& mesh, const Vec3& p, std::vector<WideRayItem>& wide_stack,
                                               std::vector<std::uint32_t>& stack);

@@ -182,8 +182,8 @@ QueryResult collide(const Model& a, const Pose& pa, const Model& b, const Pose& 
         return result;
       }
     }
-    QueryResult result =
-        query_detail::collide_wide(a.tree_, *a.wide_, a.mesh_, b.tree_, *b.wide_, b.mesh_, rel, o.mode, o.margin);
+    QueryResult result = query_detail::collide_wide(a.tree(), query_detail::wide_of(a), a.mesh(), b.tree(),
+                                                    query_detail::wide_of(b), b.mesh(), rel, o.mode, o.margin);
     if (first) {
       if (result.hit && !result.pairs.empty())
         st.witness = result.pairs.front();

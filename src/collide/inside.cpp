@@ -318,33 +318,11 @@ Containment classify_point_wide(const Tree& tree, const WideTree& wide, const Wi
   segment.axes[6 + k2] = static_cast<float>(sign);
   segment.half[0] = std::nextafter(static_cast<float>(reach), std::numeric_limits<float>::infinity());
   const WideFrame& frame = rays.frame;
-  // hoist() of the segment for each node, its M (constant: the frame is the identity) computed
-  // once. The node's ref in the segment's frame is wide_pair's t and t_err written out for R0 = I
-  // and t0 = 0: the products by 1 and 0 and the additions of 0 that wide_pair makes are exact, so
-  // these are its values bit for bit; tn and base are hoist's, operation for operation (the
-  // segment's center is 0, so d = t).
+  // hoist() of the segment for each node (hoist_identity), its M computed once.
   const WideHoisted hoisted = hoist(frame, WidePair{{0.0f, 0.0f, 0.0f}, 0.0f}, segment);
   // Its M: row i is the segment's axis i, s e_k, e_(k+1), s e_(k+2) (the frame is the identity).
   const WidePermutation perm{{k, k1, k2}, {static_cast<float>(sign), 1.0f, static_cast<float>(sign)}};
-  const float half_sum = segment.half[0] + segment.half[1] + segment.half[2] + frame.margin;
-  const auto place = [&](const Vec3& ref) {
-    WideHoisted h = hoisted;
-    double err = 0.0;
-    float t[3];
-    for (int i = 0; i < 3; ++i) {
-      const double x = ref[i] - mid[i];
-      t[i] = static_cast<float>(x);
-      err = std::max(err, std::abs(x - static_cast<double>(t[i])) +
-                              0x1p-50 * (std::abs(ref[i]) + std::abs(mid[i])) * (1.0 + 0x1p-50));
-    }
-    const float t_err = static_cast<float>(err * (1.0 + 0x1p-20) + 1e-30);
-    const float dd[3] = {t[0] - segment.center[0], t[1] - segment.center[1], t[2] - segment.center[2]};
-    for (int i = 0; i < 3; ++i)
-      h.tn[i] = segment.axes[3 * i] * dd[0] + segment.axes[3 * i + 1] * dd[1] + segment.axes[3 * i + 2] * dd[2];
-    const float d1 = std::abs(dd[0]) + std::abs(dd[1]) + std::abs(dd[2]);
-    h.base = frame.kappa * half_sum + 10.0f * kUnitRoundoff * d1 + 4.0f * t_err + frame.margin;
-    return h;
-  };
+  const auto place = [&](const Vec3& ref) { return hoist_identity(frame, hoisted, segment, mid, ref); };
   Ray ray;
   // The kept children of a node: internal ones onto the stack, leaves' triangles met. False once
   // p is found on the surface.

@@ -98,12 +98,20 @@ struct Pending {
   double key;
 };
 
+// A wide node (ref >= 0: its index) or a leaf (ref < 0: its child reference) to visit, with the
+// lower bound of its box's distance to the point (search_wide).
+struct WidePending {
+  std::int32_t ref;
+  float key;
+};
+
 // Per worker: the search's heap, kept between points, and the triangle of its last answer (the
 // next point's seed, see search()).
 struct Scratch {
   std::vector<Pending> heap;
   std::vector<std::uint32_t> ray_stack;  // classify_point's node stack
   std::vector<query_detail::WideRayItem> wide_stack;  // classify_point_wide's
+  std::vector<WidePending> wide_heap;                 // search_wide's
   std::uint32_t last = kNoTriangle;
 };
 
@@ -164,6 +172,100 @@ struct Scratch {
         heap.push_back(near);
         std::push_heap(heap.begin(), heap.end(), later);
       }
+    }
+    if (heap.empty()) break;
+    std::pop_heap(heap.begin(), heap.end(), later);
+    top = heap.back();
+    heap.pop_back();
+  }
+  return best;
+}
+
+// What the search over a model's wide nodes (search_wide) needs for every point, computed once a
+// batch: every node's reference point (child_ref from the root's, as the builder and the
+// descents compute them), the identity frame, its bound factor, and the point hoisted as a box
+// of half extents 0 with the identity's axes (its M, for hoist_identity).
+struct WidePoints {
+  explicit WidePoints(const query_detail::WideTree& wide)
+      : frame(query_detail::wide_frame(Pose::identity(), 0.0, wide.eta, 0.0)),
+        constants(query_detail::wide_bound_constants(frame)), refs(wide.nodes.size(), wide.root_ref) {
+    point.axes[0] = point.axes[4] = point.axes[8] = 1.0f;
+    hoisted = query_detail::hoist(frame, query_detail::WidePair{{0.0f, 0.0f, 0.0f}, 0.0f}, point);
+    std::vector<std::size_t> stack;
+    if (!wide.nodes.empty()) stack.push_back(0);
+    while (!stack.empty()) {
+      const std::size_t n = stack.back();
+      stack.pop_back();
+      for (int lane = 0; lane < query_detail::kWideLanes; ++lane)
+        if (const std::int32_t child = wide.nodes[n].child[lane]; child > 0) {
+          refs[static_cast<std::size_t>(child)] = query_detail::child_ref(refs[n], wide.nodes[n], lane);
+          stack.push_back(static_cast<std::size_t>(child));
+        }
+    }
+  }
+  query_detail::WideFrame frame;
+  query_detail::WideBoundConstants constants;
+  std::vector<Vec3> refs;
+  query_detail::WideBox point{};
+  query_detail::WideHoisted hoisted{};
+};
+
+// search() over the model's wide nodes: best first by the float lower bounds of the four
+// children of a node at once (wide_point_bounds: the distance from the point to each child's
+// box, never above it), the same rules (a bound strictly above the best distance, or before any
+// triangle above `limit`, is skipped; equal is kept), the same seed, the same point-triangle
+// function: the same answer.
+[[nodiscard]] Best search_wide(const query_detail::WideTree& wide, const WidePoints& wp, const Tree& tree,
+                               const Mesh& mesh, const Vec3& p, double limit, std::uint32_t seed,
+                               std::vector<WidePending>& heap) {
+  Best best;
+  if (wide.nodes.empty()) return best;
+  const auto measure = [&](std::uint32_t t) {
+    const auto [a, b, c] = mesh.corners(t);
+    const TrianglePoint r = closest_point_on_triangle(p, a, b, c);
+    if (best.takes(r.distance, t, limit)) best.take(r, t);
+  };
+  if (seed != kNoTriangle) measure(seed);
+  const auto prunable = [&](float key) { return static_cast<double>(key) > (best.found ? best.distance : limit); };
+  const auto later = [](const WidePending& x, const WidePending& y) { return x.key > y.key; };
+  const query_detail::WidePermutation identity{{0, 1, 2}, {1.0f, 1.0f, 1.0f}};
+  const auto push = [&](const WidePending& x) {
+    heap.push_back(x);
+    std::push_heap(heap.begin(), heap.end(), later);
+  };
+  heap.clear();
+  WidePending top{0, 0.0f};
+  for (;;) {
+    if (prunable(top.key)) break;
+    if (top.ref < 0) {
+      const query_detail::WideTree::LeafRange leaf = wide.leaf(top.ref);
+      for (std::uint32_t k = leaf.first; k < leaf.first + leaf.count; ++k) measure(tree.triangle_order[k]);
+    } else {
+      const query_detail::WideNode& node = wide.nodes[static_cast<std::size_t>(top.ref)];
+      const query_detail::WideHoisted h = query_detail::hoist_identity(wp.frame, wp.hoisted, wp.point, p,
+                                                                       wp.refs[static_cast<std::size_t>(top.ref)]);
+      float bounds[query_detail::kWideLanes];
+      query_detail::wide_point_bounds(h, identity, node, wp.constants, bounds);
+      // The nearest child goes on at once unless the heap holds a nearer entry; the others wait.
+      WidePending nearest{0, 0.0f};
+      bool any = false;
+      for (int lane = 0; lane < query_detail::kWideLanes; ++lane) {
+        if (node.child[lane] == 0 || prunable(bounds[lane])) continue;
+        const WidePending child{node.child[lane], bounds[lane]};
+        if (!any) {
+          nearest = child, any = true;
+        } else if (child.key < nearest.key) {
+          push(nearest);
+          nearest = child;
+        } else {
+          push(child);
+        }
+      }
+      if (any && (heap.empty() || nearest.key <= heap.front().key)) {
+        top = nearest;
+        continue;
+      }
+      if (any) push(nearest);
     }
     if (heap.empty()) break;
     std::pop_heap(heap.begin(), heap.end(), later);
@@ -296,9 +398,24 @@ std::vector<ClosestPoint> closest_points(const Tree& tree, const Mesh& mesh, con
   return results;
 }
 
+// On a model: search_wide over its wide nodes, the same answers as closest_points on its tree.
 std::vector<ClosestPoint> closest_points(const Model& model, const Pose& pose, std::span<const Vec3> points,
                                          const PointQueryOptions& options) {
-  return closest_points(model.tree(), model.mesh(), pose, points, options);
+  check_options("closest_points", options);
+  check_input("closest_points", nullptr, model.mesh(), pose, points);
+  const Pose inverse = pose.inverse();
+  const query_detail::WideTree& wide = query_detail::wide_of(model);
+  const WidePoints wp(wide);
+  const std::vector<std::uint32_t> order = morton_order(points);
+  std::vector<ClosestPoint> results(points.size());
+  for_each_point(points.size(), options.threads, [&](std::size_t k, Scratch& scratch) {
+    const std::size_t i = order[k];
+    const Best best = search_wide(wide, wp, model.tree(), model.mesh(), to_mesh_frame(inverse, points[i]),
+                                  options.max_distance, scratch.last, scratch.wide_heap);
+    scratch.last = best.triangle;
+    results[i] = to_result(best, pose, points[i], options.max_distance);
+  });
+  return results;
 }
 
 std::vector<ClosestPoint> signed_distance(const Model& model, const Pose& pose, std::span<const Vec3> points,
@@ -309,12 +426,14 @@ std::vector<ClosestPoint> signed_distance(const Model& model, const Pose& pose, 
   const Pose inverse = pose.inverse();
   const query_detail::WideTree& wide = query_detail::wide_of(model);
   const query_detail::WideRays rays(model.tree(), wide);
+  const WidePoints wp(wide);
   const std::vector<std::uint32_t> order = morton_order(points);
   std::vector<ClosestPoint> results(points.size());
   for_each_point(points.size(), options.threads, [&](std::size_t k, Scratch& scratch) {
     const std::size_t i = order[k];
     const Vec3 local = to_mesh_frame(inverse, points[i]);
-    const Best best = search(model.tree(), model.mesh(), local, options.max_distance, scratch.last, scratch.heap);
+    const Best best =
+        search_wide(wide, wp, model.tree(), model.mesh(), local, options.max_distance, scratch.last, scratch.wide_heap);
     scratch.last = best.triangle;
     ClosestPoint r = to_result(best, pose, points[i], options.max_distance);
     switch (query_detail::classify_point_wide(model.tree(), wide, rays, model.mesh(), local, scratch.wide_stack,

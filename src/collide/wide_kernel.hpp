@@ -208,6 +208,21 @@ template <class V>
   return lane_sqrt(best);
 }
 
+// wide_bound's B faces alone: sqrt of the sum of the squared gaps on B's three face axes, a lower
+// bound on its own (wide_nodes.hpp, "The distance bound", bounds each of wide_bound's parts), and
+// for a point (A's half extents 0) the distance to B's box itself: the closest-point search's
+// bound (point_query.cpp). Before the caller's factor 1 - kappa.
+template <class V>
+[[nodiscard]] inline V wide_point_bound(const WideLanes<V>& l, const WideRelative<V>& x, V zero) {
+  V in_b = zero;
+  for (int j = 0; j < 3; ++j) {
+    const WideAxis<V> a = b_face(l, x, j);
+    const V g = lane_max(a.offset - a.reach, zero);
+    in_b = in_b + g * g;
+  }
+  return lane_sqrt(in_b);
+}
+
 #ifdef TIGHTBVH_WIDE_AVX2
 /// The distance bounds (wide_distance_bounds, wide_nodes.hpp) of two hoisted boxes against the
 /// children of a node each, in eight AVX2 lanes (wide_avx2.cpp): bounds[0-3] for h0 and b0,

@@ -425,6 +425,48 @@ template <class V = F4>
          0xFu;
 }
 
+/// Lower bounds on the distance from a hoisted point (a box of half extents 0 whose M is the
+/// signed permutation `a`, hoisted with margin 0) to each of the four children of `b`
+/// (wide_point_bound, times 1 - kappa: `c` of the frame), in `bounds`; empty lanes get a huge
+/// bound or +inf.
+template <class V = F4>
+inline void wide_point_bounds(const WideHoisted& h, const WidePermutation& a, const WideNode& b,
+                              const WideBoundConstants& c, float (&bounds)[kWideLanes]) {
+  using Ops = LaneOps<V>;
+  WideLanes<V> l;
+  a_side(l, h);
+  b_side(l, b);
+  const V signs[3] = {Ops::splat(a.s[0]), Ops::splat(a.s[1]), Ops::splat(a.s[2])};
+  const V bound = wide_point_bound(l, wide_relative_permuted(l, a, signs), Ops::splat(0.0f));
+  alignas(16) float raw[kWideLanes];
+  Ops::store(raw, bound * Ops::splat(c.factor));
+  for (int k = 0; k < kWideLanes; ++k) bounds[k] = raw[k];
+}
+
+/// hoist(f, wide_pair(f, ref_a, ref_b), a) for a frame `f` that is the identity (wide_frame of
+/// Pose::identity()) and a box `a` centered at its ref (center 0), from `hoisted` =
+/// hoist(f, {0, 0, 0, 0}, a) (its M, half extents and kappa): wide_pair's t and t_err written out
+/// for R0 = I and t0 = 0 (its products by 1 and 0 and additions of 0 are exact, so the same
+/// values bit for bit) and hoist's tn and base operation for operation.
+[[nodiscard]] inline WideHoisted hoist_identity(const WideFrame& f, const WideHoisted& hoisted, const WideBox& a,
+                                               const Vec3& ref_a, const Vec3& ref_b) {
+  WideHoisted h = hoisted;
+  double err = 0.0;
+  float t[3];
+  for (int i = 0; i < 3; ++i) {
+    const double x = ref_b[i] - ref_a[i];
+    t[i] = static_cast<float>(x);
+    err = std::max(err, std::abs(x - static_cast<double>(t[i])) +
+                            0x1p-50 * (std::abs(ref_b[i]) + std::abs(ref_a[i])) * (1.0 + 0x1p-50));
+  }
+  const float t_err = static_cast<float>(err * (1.0 + 0x1p-20) + 1e-30);
+  const float d[3] = {t[0] - a.center[0], t[1] - a.center[1], t[2] - a.center[2]};
+  for (int i = 0; i < 3; ++i) h.tn[i] = a.axes[3 * i] * d[0] + a.axes[3 * i + 1] * d[1] + a.axes[3 * i + 2] * d[2];
+  const float d1 = std::abs(d[0]) + std::abs(d[1]) + std::abs(d[2]);
+  h.base = f.kappa * (a.half[0] + a.half[1] + a.half[2] + f.margin) + 10.0f * kUnitRoundoff * d1 + 4.0f * t_err + f.margin;
+  return h;
+}
+
 #ifdef TIGHTBVH_WIDE_AVX2
 /// wide_overlap2_avx2 for two hoisted boxes whose M is the signed permutation `a`
 /// (wide_overlap_permuted in eight lanes), bit for bit.

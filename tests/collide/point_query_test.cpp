@@ -52,14 +52,21 @@ std::vector<Vec3> posed(const Pose& pose, const std::vector<Vec3>& points) {
 }
 
 // The tree's answer equals the brute force's: the same distance (to 1e-12 relative; in fact bit
-// for bit), triangle, point and barycentric coordinates, which reconstruct the point.
+// for bit), triangle, point and barycentric coordinates, which reconstruct the point. A Model of
+// the same tree (its search runs on the wide nodes) gives the tree's answer bit for bit.
 void expect_brute_force(const Mesh& m, const Tree& t, const Pose& pose, const std::vector<Vec3>& points,
                         const PointQueryOptions& options = {}) {
   const std::vector<ClosestPoint> got = closest_points(t, m, pose, points, options);
   const std::vector<ClosestPoint> want = closest_points_brute_force(m, pose, points, options);
+  const std::vector<ClosestPoint> on_model = closest_points(*make_model(m, t), pose, points, options);
   ASSERT_EQ(got.size(), points.size());
+  ASSERT_EQ(on_model.size(), points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     SCOPED_TRACE("point " + std::to_string(i));
+    EXPECT_EQ(on_model[i].distance, got[i].distance);
+    EXPECT_EQ(on_model[i].triangle, got[i].triangle);
+    EXPECT_EQ(on_model[i].point, got[i].point);
+    EXPECT_EQ(on_model[i].beyond_max_distance, got[i].beyond_max_distance);
     EXPECT_EQ(got[i].beyond_max_distance, want[i].beyond_max_distance);
     EXPECT_NEAR(got[i].distance, want[i].distance, 1e-12 * want[i].distance);
     EXPECT_EQ(got[i].triangle, want[i].triangle);
@@ -259,11 +266,13 @@ TEST(PointQuery, SignAndContainsAreClassifyPoint) {
 }
 
 // contains() and signed_distance() on a Model shoot their first ray through the model's wide
-// nodes (classify_point_wide): the same sides as classify_point on the tree and the brute force,
+// nodes (classify_point_wide), and closest_points() and signed_distance() search them
+// (search_wide): the same closest points as on the tree, and the same sides as classify_point on
+// the tree and the brute force,
 // for random points, grid points on the coordinate planes of a CAD mesh (rays along its faces and
 // through its edges and vertices, which go on to the tree's re-shot rays), the mesh's vertices
 // and edge midpoints (on the surface), at scales 1e-3 to 1e4 and offsets up to 1e6.
-TEST(PointQuery, ContainsOnWideNodesIsClassifyPoint) {
+TEST(PointQuery, WideNodesGiveTheTreesAnswers) {
   std::mt19937_64 rng(38);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::size_t count[3] = {0, 0, 0};
@@ -295,6 +304,14 @@ TEST(PointQuery, ContainsOnWideNodesIsClassifyPoint) {
         }
         const std::vector<Containment> got = contains(*model, Pose::identity(), points);
         const std::vector<ClosestPoint> sd = signed_distance(*model, Pose::identity(), points);
+        // The closest points on the wide nodes: the tree's, bit for bit.
+        const std::vector<ClosestPoint> near = closest_points(*model, Pose::identity(), points);
+        const std::vector<ClosestPoint> near_tree = closest_points(model->tree(), m, Pose::identity(), points);
+        for (std::size_t i = 0; i < points.size(); ++i) {
+          ASSERT_EQ(near[i].distance, near_tree[i].distance) << "point " << i;
+          ASSERT_EQ(near[i].triangle, near_tree[i].triangle) << "point " << i;
+          ASSERT_EQ(std::abs(sd[i].distance), near[i].distance) << "point " << i;
+        }
         for (std::size_t i = 0; i < points.size(); ++i) {
           const Containment want = classify_point(model->tree(), m, model->closedness(), points[i]);
           ASSERT_EQ(got[i], want) << "point " << i;

@@ -7,7 +7,8 @@
 // and the eight-lane AVX2 kernel, the portable lanes and the kernel for a signed-permutation M
 // (contains()' rays) decide as the four-lane one. The float
 // distance bound (wide_distance_bounds) never exceeds the boxes' exact distance (measured between
-// their faces' triangles), is 0 for boxes that share a point, and is close to the double bound.
+// their faces' triangles), is 0 for boxes that share a point, and is close to the double bound;
+// the point bound of the closest-point search likewise against a point's exact distance to a box.
 #include "collide/wide_nodes.hpp"
 
 #include <gtest/gtest.h>
@@ -530,6 +531,59 @@ TEST(WideNodes, PermutedKernelIsTheKernel) {
   EXPECT_EQ(differ, 0u) << (avx2 ? "AVX2" : "two four-lane calls");
   EXPECT_GT(calls, 1000u);
   EXPECT_GT(kept_lanes, 1000u);
+}
+
+// The point bound of the closest-point search (wide_point_bounds: a point hoisted as a box of half
+// extents 0 with the identity's axes, hoist_identity) is 0 for a point in a child box (on its faces,
+// edges and corners too) and never above the point's exact distance to the box, at scales 1e-3
+// to 1e4 and offsets up to 1e6; close to it (within 1e-4 of the scale); the portable lanes give the
+// same bounds bit for bit; and hoist_identity is hoist() of wide_pair() bit for bit.
+TEST(WideNodes, PointBoundIsALowerBound) {
+  std::mt19937_64 rng(3803);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), gap(0.0, 0.5);
+  int inside = 0, outside = 0, close = 0;
+  for (const double scale : {1e-3, 1.0, 1e4})
+    for (const double offset : {0.0, 1e3, 1e6})
+      for (int n = 0; n < 120; ++n) {
+        const Vec3 p = offset * Vec3(unit(rng), unit(rng), unit(rng)) + scale * Vec3(unit(rng), unit(rng), unit(rng));
+        const Mat3 axes = n % 3 == 0 ? Mat3::Identity() : random_rotation(rng);
+        Obb box = box_around(rng, p, scale, axes);
+        const Vec3 ref = box.center + scale * Vec3(unit(rng), unit(rng), unit(rng));
+        double eta = 0.0;
+        WideNode node = empty_node();
+        put_lane(node, n % 4, box, ref, eta);
+        const WideFrame f = wide_frame(Pose::identity(), 0.0, eta, 0.0);
+        WideBox point{};
+        point.axes[0] = point.axes[4] = point.axes[8] = 1.0f;
+        const WideHoisted hoisted = hoist(f, WidePair{{0.0f, 0.0f, 0.0f}, 0.0f}, point);
+        const WidePermutation identity{{0, 1, 2}, {1.0f, 1.0f, 1.0f}};
+        const auto bound_at = [&](const Vec3& q) {
+          const WideHoisted h = hoist_identity(f, hoisted, point, q, ref);
+          const WideHoisted g = hoist(f, wide_pair(f, q, ref), point);
+          for (int i = 0; i < 3; ++i) EXPECT_EQ(h.tn[i], g.tn[i]);
+          EXPECT_EQ(h.base, g.base);
+          float b[kWideLanes], b_portable[kWideLanes];
+          wide_point_bounds(h, identity, node, wide_bound_constants(f), b);
+          wide_point_bounds<P4>(h, identity, node, wide_bound_constants(f), b_portable);
+          for (int l = 0; l < kWideLanes; ++l) EXPECT_EQ(b[l], b_portable[l]);
+          return static_cast<double>(b[n % 4]);
+        };
+        ++inside;
+        EXPECT_EQ(bound_at(p), 0.0) << "scale " << scale << " offset " << offset << " n " << n;
+        // A point off the box: its exact distance, from its coordinates in the box's frame.
+        const Vec3 q = p + scale * (0.05 + gap(rng)) * Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+        const Vec3 local = box.axes.transpose() * (q - box.center);
+        const double exact = (local - local.cwiseMax(-box.half_extents).cwiseMin(box.half_extents)).norm();
+        const double bound = bound_at(q);
+        EXPECT_LE(bound, exact + 1e-12 * (scale + offset)) << "scale " << scale << " offset " << offset << " n " << n;
+        if (exact > 0.0) {
+          ++outside;
+          close += bound >= exact - 1e-4 * scale - 1e-6 * offset;
+        }
+      }
+  EXPECT_GE(outside, 500);
+  EXPECT_GE(close, outside * 95 / 100) << close << " of " << outside;
+  EXPECT_GT(inside, 0);
 }
 
 }  // namespace

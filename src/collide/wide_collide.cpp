@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cassert>
 #include <cmath>
 
 #include "box_bounds4.hpp"
@@ -225,6 +226,16 @@ struct Descent {
   float base_add = 0.0f;  // up(2 err) of descent_bounds: a forward box's base is its core plus this
   double margin = 0.0;    // > 0: the leaves report pairs within it (within_margin), as collide() does
   WideTraceSink* sink = nullptr;  // Traced: where the tests are recorded
+  // all_pairs: a forward test (a box of A against a node of B) that came alone and waits for a
+  // partner, so that the eight-lane kernel runs full; single calls were half of an overlap
+  // query's kernel calls. Its box's hoisted node belongs to a descend_a frame still live:
+  // descend_a tests what waits on its own node before it returns. first_hit keeps its order.
+  struct Waiting {
+    DescentBox x{};
+    std::int32_t nb = 0;
+    unsigned lanes = 0;  // the lanes of nb tested (the rest are not kept)
+    bool full = false;
+  } waiting{};
 
   // Traced: the tests of the box in lane a_lane of A's node a against the lanes `lanes` of B's node
   // nb, `kept` the lanes kept; a kept pair of two leaves is remembered for its triangles' outcome.
@@ -286,6 +297,52 @@ struct Descent {
     return false;
   }
 
+  // Box x against the lanes `lanes` of B's node nb: waits for a partner.
+  void wait(const DescentBox& x, std::int32_t nb, unsigned lanes) {
+    waiting.x = x;
+    waiting.nb = nb;
+    waiting.lanes = lanes;
+    waiting.full = true;
+  }
+
+  // One test of view v against node b, in one eight-lane call with the waiting forward test if
+  // there is one (which is then taken: `taken` and its lanes kept, for the caller to visit after
+  // its own test). Returns v's lanes kept.
+  unsigned single(const WideBoxView& v, const WideNode& b, Waiting& taken, unsigned& taken_kept) {
+    if (FirstHit || !waiting.full) {
+      ++kernel_calls;
+      return wide_overlap(v, b);
+    }
+    taken = waiting;
+    waiting.full = false;
+    const WideNode& tb_node = wb.nodes[static_cast<std::size_t>(taken.nb)];
+    box_tests += lanes_in(taken.lanes);
+    kernel_calls += 2;
+    const unsigned both = wide_overlap2(v, b, taken.x.view(), tb_node, avx2);
+    taken_kept = (both >> 4) & taken.lanes;
+    record(taken.x.node(), taken.x.lane, taken.nb, taken.lanes, taken_kept);
+    return both & 0xFu;
+  }
+
+  // The waiting test, taken by single(): its descents.
+  void visit_taken(const Waiting& taken, unsigned kept) {
+    if (taken.full && kept != 0) (void)visit(taken.x, taken.nb, kept);
+  }
+
+  // Tests alone what waits on the hoisted node hn, before the frame holding hn returns.
+  void flush_waiting(const HoistedNode& hn) {
+    while (waiting.full && waiting.x.hn == &hn) {
+      const Waiting w = waiting;
+      waiting.full = false;
+      const WideNode& b = wb.nodes[static_cast<std::size_t>(w.nb)];
+      box_tests += lanes_in(w.lanes);
+      ++kernel_calls;
+      const unsigned kept = wide_overlap(w.x.view(), b) & w.lanes;
+      record(w.x.node(), w.x.lane, w.nb, w.lanes, kept);
+      if (kept != 0) (void)visit(w.x, w.nb, kept);
+    }
+  }
+
   // Box x of A against B's node nb, whose lanes `kept` the kernel kept. True: stop.
   bool visit(const DescentBox& x, std::int32_t nb, unsigned kept) {
     const WideNode& n = wb.nodes[static_cast<std::size_t>(nb)];
@@ -328,9 +385,15 @@ struct Descent {
     // so that first_hit stopping below the first pair spares the second pair's call.
     for (int i = 0; i < moves; i += 2) {
       const int k0 = order[i], k1 = i + 1 < moves ? order[i + 1] : -1;
+      if (!FirstHit && k1 < 0 && !waiting.full) {  // alone: waits for a partner
+        wait(moved[k0], next[k0], occupied(wb.nodes[static_cast<std::size_t>(next[k0])]));
+        break;
+      }
       const WideNode& b0 = wb.nodes[static_cast<std::size_t>(next[k0])];
       box_tests += lanes_in(occupied(b0));
       unsigned m0 = 0, m1 = 0;
+      Waiting taken;
+      unsigned taken_kept = 0;
       if (k1 >= 0) {
         const WideNode& b1 = wb.nodes[static_cast<std::size_t>(next[k1])];
         box_tests += lanes_in(occupied(b1));
@@ -339,8 +402,7 @@ struct Descent {
         m0 = both & 0xFu;
         m1 = both >> 4;
       } else {
-        ++kernel_calls;
-        m0 = wide_overlap(moved[k0].view(), b0);
+        m0 = single(moved[k0].view(), b0, taken, taken_kept);
       }
       if constexpr (Traced) {
         record(moved[k0].node(), moved[k0].lane, next[k0], occupied(b0), m0);
@@ -351,6 +413,7 @@ struct Descent {
       }
       if (m0 != 0 && visit(moved[k0], next[k0], m0)) return true;
       if (m1 != 0 && visit(moved[k1], next[k1], m1)) return true;
+      visit_taken(taken, taken_kept);
     }
     if (down_a != 0) {
       const float t[3] = {x.t[0] - x.node().center[0][x.lane], x.t[1] - x.node().center[1][x.lane],
@@ -372,7 +435,7 @@ struct Descent {
     const HoistedNode hb = hoist_node(fs, b, s, (s_err + swap_hoist) * (1.0 + 0x1p-50));
     int lanes[kWideLanes], m = 0;
     for (unsigned w = allowed; w != 0; w &= w - 1) lanes[m++] = std::countr_zero(w);
-    kernel_calls += static_cast<unsigned>(m);
+    kernel_calls += static_cast<unsigned>(m & ~1);
     for (int k = 0; k < m; k += 2) {
       const DescentBox y0 = fresh(hb, lanes[k], s, s_err);
       unsigned kept[2];
@@ -382,8 +445,11 @@ struct Descent {
         kept[0] = both & 0xFu;
         kept[1] = both >> 4;
       } else {
-        kept[0] = wide_overlap(y0.view(), n);
+        Waiting taken;
+        unsigned taken_kept = 0;
+        kept[0] = single(y0.view(), n, taken, taken_kept);
         kept[1] = 0;
+        visit_taken(taken, taken_kept);
       }
       for (int h = 0; h < 2 && k + h < m; ++h)
         for (unsigned w = kept[h]; w != 0; w &= w - 1) masks[std::countr_zero(w)] |= 1u << lanes[k + h];
@@ -424,6 +490,8 @@ struct Descent {
     // As visit: two boxes per call in the visiting order, each pair tested just before its descents.
     for (int i = 0; i < count; i += 2) {
       const int k0 = order[i], k1 = i + 1 < count ? order[i + 1] : -1;
+      Waiting taken;
+      unsigned taken_kept = 0;
       if (!swapped) {  // counted as tested: first_hit may stop before the last boxes
         if (k1 >= 0) {
           kernel_calls += 2;
@@ -432,9 +500,8 @@ struct Descent {
           box_masks[k0] = both & allowed;
           box_masks[k1] = (both >> 4) & allowed;
         } else {
-          ++kernel_calls;
           box_tests += static_cast<unsigned>(wanted);
-          box_masks[k0] = wide_overlap(boxes[k0].view(), b) & allowed;
+          box_masks[k0] = single(boxes[k0].view(), b, taken, taken_kept) & allowed;
         }
       }
       if constexpr (Traced) {
@@ -445,7 +512,9 @@ struct Descent {
       }
       if (box_masks[k0] != 0 && visit(boxes[k0], nb, box_masks[k0])) return true;
       if (k1 >= 0 && box_masks[k1] != 0 && visit(boxes[k1], nb, box_masks[k1])) return true;
+      visit_taken(taken, taken_kept);
     }
+    if constexpr (!FirstHit) flush_waiting(hn);
     return false;
   }
 };
@@ -495,6 +564,7 @@ void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, con
   d.base_add = up(2.0 * bounds.err);
   d.sink = sink;
   (void)d.descend_a(0, root.t, d.t_err_q, 0, occupied(wb.nodes[0]));
+  assert(!d.waiting.full);  // the root's descend_a tested what waited
   if constexpr (!FirstHit) d.batch.flush(result);
   result.stats.box_tests += d.box_tests;
   result.stats.triangle_tests += d.triangle_tests;

@@ -233,7 +233,6 @@ struct Descent {
   struct Waiting {
     DescentBox x{};
     std::int32_t nb = 0;
-    unsigned lanes = 0;  // the lanes of nb tested (the rest are not kept)
     bool full = false;
   } waiting{};
 
@@ -297,14 +296,6 @@ struct Descent {
     return false;
   }
 
-  // Box x against the lanes `lanes` of B's node nb: waits for a partner.
-  void wait(const DescentBox& x, std::int32_t nb, unsigned lanes) {
-    waiting.x = x;
-    waiting.nb = nb;
-    waiting.lanes = lanes;
-    waiting.full = true;
-  }
-
   // One test of view v against node b, in one eight-lane call with the waiting forward test if
   // there is one (which is then taken: `taken` and its lanes kept, for the caller to visit after
   // its own test). Returns v's lanes kept.
@@ -316,11 +307,11 @@ struct Descent {
     taken = waiting;
     waiting.full = false;
     const WideNode& tb_node = wb.nodes[static_cast<std::size_t>(taken.nb)];
-    box_tests += lanes_in(taken.lanes);
+    box_tests += lanes_in(occupied(tb_node));
     kernel_calls += 2;
     const unsigned both = wide_overlap2(v, b, taken.x.view(), tb_node, avx2);
-    taken_kept = (both >> 4) & taken.lanes;
-    record(taken.x.node(), taken.x.lane, taken.nb, taken.lanes, taken_kept);
+    taken_kept = both >> 4;
+    record(taken.x.node(), taken.x.lane, taken.nb, occupied(tb_node), taken_kept);
     return both & 0xFu;
   }
 
@@ -335,10 +326,10 @@ struct Descent {
       const Waiting w = waiting;
       waiting.full = false;
       const WideNode& b = wb.nodes[static_cast<std::size_t>(w.nb)];
-      box_tests += lanes_in(w.lanes);
+      box_tests += lanes_in(occupied(b));
       ++kernel_calls;
-      const unsigned kept = wide_overlap(w.x.view(), b) & w.lanes;
-      record(w.x.node(), w.x.lane, w.nb, w.lanes, kept);
+      const unsigned kept = wide_overlap(w.x.view(), b);
+      record(w.x.node(), w.x.lane, w.nb, occupied(b), kept);
       if (kept != 0) (void)visit(w.x, w.nb, kept);
     }
   }
@@ -386,7 +377,7 @@ struct Descent {
     for (int i = 0; i < moves; i += 2) {
       const int k0 = order[i], k1 = i + 1 < moves ? order[i + 1] : -1;
       if (!FirstHit && k1 < 0 && !waiting.full) {  // alone: waits for a partner
-        wait(moved[k0], next[k0], occupied(wb.nodes[static_cast<std::size_t>(next[k0])]));
+        waiting = {moved[k0], next[k0], true};
         break;
       }
       const WideNode& b0 = wb.nodes[static_cast<std::size_t>(next[k0])];

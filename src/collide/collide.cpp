@@ -10,6 +10,7 @@
 
 #include "batch.hpp"
 #include "box_test.hpp"
+#include "pair_sort.hpp"
 #include "contact_query.hpp"
 #include "query_cache.hpp"
 #include "query_common.hpp"
@@ -129,8 +130,7 @@ void collide_trees(const Tree& ta, const Mesh& ma, const Tree& tb, const Mesh& m
 }
 
 void finish(QueryResult& result) {
-  std::sort(result.pairs.begin(), result.pairs.end());
-  result.pairs.erase(std::unique(result.pairs.begin(), result.pairs.end()), result.pairs.end());
+  query_detail::sort_unique_pairs(result.pairs);
 }
 
 }  // namespace

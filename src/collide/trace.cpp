@@ -12,6 +12,7 @@
 #include <string>
 
 #include "box_test.hpp"
+#include "pair_sort.hpp"
 #include "query_common.hpp"
 #include "query_workspace.hpp"
 #include "tightbvh/obb_overlap.hpp"
@@ -109,8 +110,7 @@ CollideTrace collide_trace(const Tree& ta, const Mesh& ma, const Pose& pa, const
     traverse_pairs(ta, tb, options.descend, stack, boxes_overlap, triangles_touch);
   }
   if (!first_hit) {
-    std::sort(result.pairs.begin(), result.pairs.end());
-    result.pairs.erase(std::unique(result.pairs.begin(), result.pairs.end()), result.pairs.end());
+    query_detail::sort_unique_pairs(result.pairs);
   }
   return trace;
 }

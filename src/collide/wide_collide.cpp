@@ -9,6 +9,7 @@
 
 #include "box_bounds4.hpp"
 #include "box_test.hpp"
+#include "pair_sort.hpp"
 #include "query_common.hpp"
 #include "tightbvh/tri_tri.hpp"
 #include "tri_batch.hpp"
@@ -579,8 +580,7 @@ QueryResult collide_on(const Tree& ta, const WideTree& wa, const Mesh& ma, const
     run<true, Traced>(ta, wa, ma, tb, wb, mb, rel, margin, result, counters, swap, sink);
   } else {
     run<false, Traced>(ta, wa, ma, tb, wb, mb, rel, margin, result, counters, swap, sink);
-    std::sort(result.pairs.begin(), result.pairs.end());
-    result.pairs.erase(std::unique(result.pairs.begin(), result.pairs.end()), result.pairs.end());
+    sort_unique_pairs(result.pairs);
   }
   return result;
 }

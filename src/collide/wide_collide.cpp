@@ -3,6 +3,7 @@
 #include "wide_collide.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cassert>
 #include <cmath>
@@ -184,6 +185,18 @@ void nearest_first(const DescentBox* boxes, int count, int (&order)[kWideLanes])
 // The lanes set in a four-lane mask (std::popcount is a library call on x86-64 without POPCNT).
 int lanes_in(unsigned mask) { return (0x4332322132212110ull >> (4 * (mask & 0xFu))) & 0xF; }
 
+// For each four-lane mask, its set lanes in increasing order, two bits each (lanes_in of them).
+constexpr std::array<std::uint8_t, 16> kLaneLists = [] {
+  std::array<std::uint8_t, 16> lists{};
+  for (unsigned mask = 0; mask < 16; ++mask) {
+    unsigned packed = 0, count = 0;
+    for (unsigned lane = 0; lane < 4; ++lane)
+      if ((mask >> lane) & 1u) packed |= lane << (2 * count++);
+    lists[mask] = static_cast<std::uint8_t>(packed);
+  }
+  return lists;
+}();
+
 // move_b without its error bounds, which descent_bounds covers for the whole query (the descent's
 // move of A's side, t - c, is written where it is made).
 [[gnu::always_inline]] inline void move_b_fast(DescentBox& x, const WideNode& n, int lane, const float (&f_r0)[9]) {
@@ -200,6 +213,31 @@ unsigned occupied(const WideNode& n) {
   unsigned m = 0;
   for (int l = 0; l < kWideLanes; ++l) m |= static_cast<unsigned>(!is_empty_lane(n, l)) << l;
   return m;
+}
+
+// The lanes of n that hold a leaf (child reference < 0): their sign bits.
+unsigned leaf_lanes(const WideNode& n) {
+#ifdef TIGHTBVH_WIDE_SSE
+  return static_cast<unsigned>(_mm_movemask_ps(_mm_load_ps(reinterpret_cast<const float*>(n.child))));
+#else
+  unsigned m = 0;
+  for (int l = 0; l < kWideLanes; ++l) m |= static_cast<unsigned>(n.child[l] < 0) << l;
+  return m;
+#endif
+}
+
+// The lanes of n whose box's volume (e_0 e_1 e_2, in float, in that order) is >= volume: the
+// same products and comparisons as one lane at a time.
+unsigned lanes_at_least(const WideNode& n, float volume) {
+#ifdef TIGHTBVH_WIDE_SSE
+  const __m128 v = _mm_mul_ps(_mm_mul_ps(_mm_load_ps(n.half[0]), _mm_load_ps(n.half[1])), _mm_load_ps(n.half[2]));
+  return static_cast<unsigned>(_mm_movemask_ps(_mm_cmpge_ps(v, _mm_set1_ps(volume))));
+#else
+  unsigned m = 0;
+  for (int l = 0; l < kWideLanes; ++l)
+    m |= static_cast<unsigned>(n.half[0][l] * n.half[1][l] * n.half[2][l] >= volume) << l;
+  return m;
+#endif
 }
 
 template <bool FirstHit, bool Traced = false>
@@ -340,36 +378,35 @@ struct Descent {
     const WideNode& n = wb.nodes[static_cast<std::size_t>(nb)];
     const std::int32_t a_child = x.node().child[x.lane];
     const float a_volume = x.hn->volume[x.lane];
-    unsigned down_a = 0;  // lanes of n met by the children of x
+    // The kept lanes sorted by where they lead, a mask each, rather than branch by branch: which
+    // lane is a leaf, which box is the larger and whether x is a leaf are coin flips for the
+    // branch predictor. leaves_b: pairs of leaves; down_b: lanes of n to descend with x (all
+    // internal ones when x is a leaf); down_a: lanes met by the children of x.
+    const unsigned a_leaf = 0u - static_cast<unsigned>(a_child < 0);  // all bits when x is a leaf
+    const unsigned internal_b = kept & ~leaf_lanes(n);
+    const unsigned leaves_b = kept & ~internal_b & a_leaf;
+    const unsigned down_b = internal_b & (lanes_at_least(n, a_volume) | a_leaf);
+    const unsigned down_a = kept & ~down_b & ~a_leaf;
     DescentBox moved[kWideLanes];
     std::int32_t next[kWideLanes];
     int moves = 0;
-    for (unsigned m = kept; m != 0; m &= m - 1) {
+    for (unsigned m = leaves_b; m != 0; m &= m - 1) {
       const int lane = std::countr_zero(m);
-      if (n.child[lane] < 0) {  // a leaf of B
-        if (a_child < 0) {
-          const std::size_t reported = result.pairs.size();
-          const bool stop = leaves(a_child, n.child[lane]);
-          if constexpr (Traced) {
-            if (result.pairs.size() > reported)
-              sink->mark_hit(static_cast<std::uint32_t>(&x.node() - wa.nodes.data()), x.lane,
-                             static_cast<std::uint32_t>(nb), lane);
-          }
-          if (stop) return true;
-        } else {
-          down_a |= 1u << lane;
-        }
-        continue;
+      const std::size_t reported = result.pairs.size();
+      const bool stop = leaves(a_child, n.child[lane]);
+      if constexpr (Traced) {
+        if (result.pairs.size() > reported)
+          sink->mark_hit(static_cast<std::uint32_t>(&x.node() - wa.nodes.data()), x.lane,
+                         static_cast<std::uint32_t>(nb), lane);
       }
-      const float volume = n.half[0][lane] * n.half[1][lane] * n.half[2][lane];
-      if (a_child < 0 || volume >= a_volume) {
-        next[moves] = n.child[lane];
-        moved[moves] = x;
-        move_b_fast(moved[moves], n, lane, f.r0);
-        ++moves;
-      } else {
-        down_a |= 1u << lane;
-      }
+      if (stop) return true;
+    }
+    for (unsigned m = down_b; m != 0; m &= m - 1) {
+      const int lane = std::countr_zero(m);
+      next[moves] = n.child[lane];
+      moved[moves] = x;
+      move_b_fast(moved[moves], n, lane, f.r0);
+      ++moves;
     }
     int order[kWideLanes] = {0, 1, 2, 3};
     if constexpr (FirstHit) nearest_first(moved, moves, order);
@@ -425,8 +462,11 @@ struct Descent {
     double s_err;
     swap_point(f.r0, t, t_err, swap_fixed, s, s_err);
     const HoistedNode hb = hoist_node(fs, b, s, (s_err + swap_hoist) * (1.0 + 0x1p-50));
-    int lanes[kWideLanes], m = 0;
-    for (unsigned w = allowed; w != 0; w &= w - 1) lanes[m++] = std::countr_zero(w);
+    // The wanted lanes in order, from a table rather than a loop over the mask's bits (whose
+    // length the branch predictor cannot know).
+    const int m = lanes_in(allowed);
+    int lanes[kWideLanes];
+    for (int k = 0; k < kWideLanes; ++k) lanes[k] = (kLaneLists[allowed & 0xFu] >> (2 * k)) & 3;
     kernel_calls += static_cast<unsigned>(m & ~1);
     for (int k = 0; k < m; k += 2) {
       const DescentBox y0 = fresh(hb, lanes[k], s, s_err);
@@ -443,8 +483,8 @@ struct Descent {
         kept[1] = 0;
         visit_taken(taken, taken_kept);
       }
-      for (int h = 0; h < 2 && k + h < m; ++h)
-        for (unsigned w = kept[h]; w != 0; w &= w - 1) masks[std::countr_zero(w)] |= 1u << lanes[k + h];
+      for (int h = 0; h < 2; ++h)  // transposed without branches (kept[1] is 0 past the last lane)
+        for (int i = 0; i < kWideLanes; ++i) masks[i] |= ((kept[h] >> i) & 1u) << lanes[k + h];
     }
   }
 

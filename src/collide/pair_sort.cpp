@@ -9,10 +9,21 @@
 namespace tightbvh::query_detail {
 
 void sort_unique_pairs(std::vector<TrianglePair>& pairs) {
-  // Below this the comparison sort is as fast and needs no buffers.
+  // Below this the comparison sort is as fast and needs no heap buffers.
   constexpr std::size_t kRadixFrom = 256;
   const std::size_t n = pairs.size();
-  if (n < kRadixFrom || n > 0xFFFFFFFFu) {
+  if (n < kRadixFrom) {  // the comparison sort on 64-bit keys: one branch a comparison, not two
+    std::array<std::uint64_t, kRadixFrom> keys;
+    for (std::size_t i = 0; i < n; ++i) keys[i] = std::uint64_t{pairs[i].a} << 32 | pairs[i].b;
+    const auto last = keys.begin() + static_cast<std::ptrdiff_t>(n);
+    std::sort(keys.begin(), last);
+    const auto end = static_cast<std::size_t>(std::unique(keys.begin(), last) - keys.begin());
+    for (std::size_t i = 0; i < end; ++i)
+      pairs[i] = {static_cast<std::uint32_t>(keys[i] >> 32), static_cast<std::uint32_t>(keys[i])};
+    pairs.resize(end);
+    return;
+  }
+  if (n > 0xFFFFFFFFu) {  // beyond the counters' range
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
     return;

@@ -36,13 +36,23 @@ class TrianglePairBatch {
 #else
     const int answer = 0;  // no lanes here (callers queue only where avx2_bounds_available()): all exact
 #endif
+    const unsigned used = (1u << size_) - 1u;
+    const unsigned undecided = ~static_cast<unsigned>(answer) & used;
+    unsigned touch = (static_cast<unsigned>(answer) >> 4) & used & ~undecided;  // the lanes' answers
+    if (undecided != 0)  // within rounding of touching: the exact test
+      for (int lane = 0; lane < size_; ++lane)
+        if ((undecided >> lane & 1u) != 0 && exact(lane)) touch |= 1u << lane;
+    // The touching pairs appended without a branch on each answer (which the predictor cannot
+    // know): every pair is written, and the end moves past those that touch.
+    result.hit = result.hit || touch != 0;
+    const std::size_t reported = result.pairs.size();
+    result.pairs.resize(reported + static_cast<std::size_t>(size_));
+    TrianglePair* out = result.pairs.data() + reported;
     for (int lane = 0; lane < size_; ++lane) {
-      const bool touch = (answer >> lane & 1) != 0 ? (answer >> (4 + lane) & 1) != 0 : exact(lane);
-      if (touch) {
-        result.hit = true;
-        result.pairs.push_back(ids_[lane]);
-      }
+      *out = ids_[lane];
+      out += (touch >> lane) & 1u;
     }
+    result.pairs.resize(static_cast<std::size_t>(out - result.pairs.data()));
     size_ = 0;
   }
 

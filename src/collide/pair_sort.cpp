@@ -12,6 +12,7 @@ void sort_unique_pairs(std::vector<TrianglePair>& pairs) {
   // Below this the comparison sort is as fast and needs no heap buffers.
   constexpr std::size_t kRadixFrom = 256;
   const std::size_t n = pairs.size();
+  if (n < 2) return;
   if (n < kRadixFrom) {  // the comparison sort on 64-bit keys: one branch a comparison, not two
     std::array<std::uint64_t, kRadixFrom> keys;
     for (std::size_t i = 0; i < n; ++i) keys[i] = std::uint64_t{pairs[i].a} << 32 | pairs[i].b;

@@ -185,6 +185,15 @@ void nearest_first(const DescentBox* boxes, int count, int (&order)[kWideLanes])
 // The lanes set in a four-lane mask (std::popcount is a library call on x86-64 without POPCNT).
 int lanes_in(unsigned mask) { return (0x4332322132212110ull >> (4 * (mask & 0xFu))) & 0xF; }
 
+// For each four-lane mask, its bits spread four apart (bit i to bit 4 i): a column of a 4 x 4
+// bit matrix.
+constexpr std::array<std::uint16_t, 16> kSpread = [] {
+  std::array<std::uint16_t, 16> spread{};
+  for (unsigned mask = 0; mask < 16; ++mask)
+    for (unsigned i = 0; i < 4; ++i) spread[mask] |= static_cast<std::uint16_t>(((mask >> i) & 1u) << (4 * i));
+  return spread;
+}();
+
 // For each four-lane mask, its set lanes in increasing order, two bits each (lanes_in of them).
 constexpr std::array<std::uint8_t, 16> kLaneLists = [] {
   std::array<std::uint8_t, 16> lists{};
@@ -454,10 +463,11 @@ struct Descent {
 
   // The wanted children of B's node b (the lanes `allowed`), each hoisted in B's frame, against
   // the four children of A's node n in lanes: fewer kernel calls than A's boxes against b when
-  // fewer lanes of b are wanted than n has boxes. masks[lane of n] gets the lanes of b kept
-  // against it. Not inlined: its frame stays off descend_a's, which recurses.
-  [[gnu::noinline]] void swapped_tests(const WideNode& n, const WideNode& b, const float (&t)[3], double t_err,
-                                       unsigned allowed, unsigned (&masks)[kWideLanes]) {
+  // fewer lanes of b are wanted than n has boxes. Returns the lanes of b kept against each lane i
+  // of n in bits 4 i to 4 i + 3. Not inlined: its frame stays off descend_a's, which recurses.
+  [[gnu::noinline]] unsigned swapped_tests(const WideNode& n, const WideNode& b, const float (&t)[3], double t_err,
+                                           unsigned allowed) {
+    unsigned kept_by_a = 0;
     float s[3];
     double s_err;
     swap_point(f.r0, t, t_err, swap_fixed, s, s_err);
@@ -483,9 +493,12 @@ struct Descent {
         kept[1] = 0;
         visit_taken(taken, taken_kept);
       }
-      for (int h = 0; h < 2; ++h)  // transposed without branches (kept[1] is 0 past the last lane)
-        for (int i = 0; i < kWideLanes; ++i) masks[i] |= ((kept[h] >> i) & 1u) << lanes[k + h];
+      // Transposed without branches: kept[h]'s bit i to bit 4 i + lanes[k + h] (kept[1] is 0
+      // past the last lane).
+      kept_by_a |= static_cast<unsigned>(kSpread[kept[0]]) << lanes[k];
+      kept_by_a |= static_cast<unsigned>(kSpread[kept[1]]) << lanes[k + 1];
     }
+    return kept_by_a;
   }
 
   // Each box of A's node na against the lanes `allowed` of B's node nb. t, t_err: B's ref in na's
@@ -499,13 +512,14 @@ struct Descent {
     const bool swapped = swap && wanted < count;
     if (swapped) {
       box_tests += static_cast<std::uint64_t>(count) * static_cast<unsigned>(wanted);  // all tested at once
-      swapped_tests(n, b, t, t_err, allowed, masks);
+      const unsigned kept_by_a = swapped_tests(n, b, t, t_err, allowed);
+      for (int lane = 0; lane < kWideLanes; ++lane) masks[lane] = (kept_by_a >> (4 * lane)) & 0xFu;
       if constexpr (Traced)
         for (unsigned w = boxes_of_a; w != 0; w &= w - 1) {
           const int lane = std::countr_zero(w);
           record(n, lane, nb, allowed, masks[lane]);
         }
-      if ((masks[0] | masks[1] | masks[2] | masks[3]) == 0) return false;
+      if (kept_by_a == 0) return false;
     }
     HoistedNode hn = hoist_node(f, n, t, t_err);
     store4(hn.base, load4(hn.core) + splat4(base_add));  // descent_bounds' base, which moves keep

@@ -525,11 +525,10 @@ struct Descent {
     store4(hn.base, load4(hn.core) + splat4(base_add));  // descent_bounds' base, which moves keep
     DescentBox boxes[kWideLanes];
     unsigned box_masks[kWideLanes];
-    int used = 0;
-    for (unsigned w = boxes_of_a; w != 0; w &= w - 1) {
-      const int lane = std::countr_zero(w);
-      boxes[used] = fresh(hn, lane, t, t_err);
-      box_masks[used++] = masks[lane];
+    for (int k = 0; k < kWideLanes; ++k) {  // all four slots, the boxes' lanes from the table
+      const int lane = (kLaneLists[boxes_of_a] >> (2 * k)) & 3;
+      boxes[k] = fresh(hn, lane, t, t_err);
+      box_masks[k] = masks[lane];
     }
     int order[kWideLanes] = {0, 1, 2, 3};
     if constexpr (FirstHit) nearest_first(boxes, count, order);

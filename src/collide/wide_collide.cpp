@@ -508,16 +508,15 @@ struct Descent {
     const WideNode& b = wb.nodes[static_cast<std::size_t>(nb)];
     const unsigned boxes_of_a = occupied(n);
     const int count = lanes_in(boxes_of_a), wanted = lanes_in(allowed);
-    unsigned masks[kWideLanes] = {0, 0, 0, 0};  // by lane of n: the lanes of b kept against it
+    unsigned kept_by_a = 0;  // swapped: lane i of n kept the lanes of b in bits 4 i to 4 i + 3
     const bool swapped = swap && wanted < count;
     if (swapped) {
       box_tests += static_cast<std::uint64_t>(count) * static_cast<unsigned>(wanted);  // all tested at once
-      const unsigned kept_by_a = swapped_tests(n, b, t, t_err, allowed);
-      for (int lane = 0; lane < kWideLanes; ++lane) masks[lane] = (kept_by_a >> (4 * lane)) & 0xFu;
+      kept_by_a = swapped_tests(n, b, t, t_err, allowed);
       if constexpr (Traced)
         for (unsigned w = boxes_of_a; w != 0; w &= w - 1) {
           const int lane = std::countr_zero(w);
-          record(n, lane, nb, allowed, masks[lane]);
+          record(n, lane, nb, allowed, (kept_by_a >> (4 * lane)) & 0xFu);
         }
       if (kept_by_a == 0) return false;
     }
@@ -528,7 +527,7 @@ struct Descent {
     for (int k = 0; k < kWideLanes; ++k) {  // all four slots, the boxes' lanes from the table
       const int lane = (kLaneLists[boxes_of_a] >> (2 * k)) & 3;
       boxes[k] = fresh(hn, lane, t, t_err);
-      box_masks[k] = masks[lane];
+      box_masks[k] = (kept_by_a >> (4 * lane)) & 0xFu;
     }
     int order[kWideLanes] = {0, 1, 2, 3};
     if constexpr (FirstHit) nearest_first(boxes, count, order);

@@ -218,10 +218,16 @@ constexpr std::array<std::uint8_t, 16> kLaneLists = [] {
   }
 }
 
+// The lanes of n that hold a child (is_empty_lane's test on all four at once).
 unsigned occupied(const WideNode& n) {
+#ifdef TIGHTBVH_WIDE_SSE
+  const __m128i child = _mm_load_si128(reinterpret_cast<const __m128i*>(n.child));
+  return static_cast<unsigned>(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(child, _mm_setzero_si128())))) ^ 0xFu;
+#else
   unsigned m = 0;
   for (int l = 0; l < kWideLanes; ++l) m |= static_cast<unsigned>(!is_empty_lane(n, l)) << l;
   return m;
+#endif
 }
 
 // The lanes of n that hold a leaf (child reference < 0): their sign bits.

@@ -551,5 +551,53 @@ TEST(Scene, EmptyAndSingleObjectScenes) {
   EXPECT_EQ(hits[0].id, id);
 }
 
+// is_valid_pose (the queries' check without a message) accepts exactly what require_valid_pose
+// accepts: exact and perturbed rotations around the tolerance, reflections, every entry NaN or
+// infinite in turn, and entries large enough for the Gram products to overflow.
+TEST(Scene, IsValidPoseAgreesWithRequireValidPose) {
+  const auto accepted = [](const Pose& p) {
+    try {
+      require_valid_pose(p, "test", "pose");
+      return true;
+    } catch (const InputError&) {
+      return false;
+    }
+  };
+  std::vector<Pose> poses;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal;
+  for (int i = 0; i < 200; ++i) {
+    Pose p;
+    p.rotation = Eigen::Quaterniond(normal(rng), normal(rng), normal(rng), normal(rng)).normalized().toRotationMatrix();
+    p.translation = Vec3(normal(rng), normal(rng), normal(rng)) * 1e3;
+    poses.push_back(p);
+    for (const double scale : {1e-7, 4e-7, 6e-7, 1e-6, 2e-6, 1e-3}) {  // around kRotationTolerance
+      Pose q = p;
+      q.rotation(i % 3, (i / 3) % 3) += scale;
+      poses.push_back(q);
+      q.rotation.col(i % 3) *= 1.0 + scale;
+      poses.push_back(q);
+    }
+    Pose reflected = p;
+    reflected.rotation.col(i % 3) *= -1.0;
+    poses.push_back(reflected);
+  }
+  const double specials[] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+                             -std::numeric_limits<double>::infinity(), 1e200, -1e160};
+  for (const double x : specials)
+    for (int k = 0; k < 12; ++k) {
+      Pose p = poses[static_cast<std::size_t>(k)];
+      (k < 9 ? p.rotation.data()[k] : p.translation[k - 9]) = x;
+      poses.push_back(p);
+    }
+  int rejected = 0;
+  for (const Pose& p : poses) {
+    EXPECT_EQ(is_valid_pose(p), accepted(p)) << "rotation\n" << p.rotation << "\ntranslation " << p.translation.transpose();
+    rejected += !accepted(p);
+  }
+  EXPECT_GT(rejected, 1000);  // both verdicts occur
+  EXPECT_LT(rejected, static_cast<int>(poses.size()) - 500);
+}
+
 }  // namespace
 }  // namespace tightbvh

@@ -65,12 +65,12 @@ template <class V>
 
 // box_separated: the lanes whose boxes some axis separates by more than `margin` (obb_overlap()'s
 // negation, lane by lane). Stops once every lane is separated: the one-pair test (M = bool) checks
-// after each axis; lanes check after A's three face axes, B's three and each three edge axes,
-// since with several lanes an early stop is rare and each check is a branch that mispredicts.
-// Where it stops does not change the result (more axes only add separated lanes to a full mask).
-template <class V, class M>
+// after each axis unless kEachAxis is false; lanes check after A's three face axes, B's three and
+// each three edge axes, since with several lanes an early stop is rare and each check is a branch
+// that mispredicts. Where it stops does not change the result (more axes only add separated lanes
+// to a full mask).
+template <class V, class M, bool kEachAxis = std::is_same_v<M, bool>>
 [[nodiscard]] inline M box_separated(const LaneBox<V>& a, const LaneBox<V>& b, V margin, V eps) {
-  constexpr bool kEachAxis = std::is_same_v<M, bool>;
   V r[3][3], abs_r[3][3], t[3];
   lane_relative_frame(a, b, r, t);
   const V* ea = a.half;

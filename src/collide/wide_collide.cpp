@@ -575,13 +575,15 @@ void run(const Tree& ta, const WideTree& wa, const Mesh& ma, const Tree& tb, con
          WideTraceSink* sink = nullptr) {
   // The roots first, as collide() does (its double test, box_test.hpp): a pair whose roots are
   // apart stops here at one test, where the wide roots would test A's root children against B's.
+  // The scenes need it: their pairs come from world boxes that meet, and the roots' oriented boxes
+  // cull many of those.
   if (!rel.rotation.allFinite() || !rel.translation.allFinite()) throw InputError("collide_wide: pose is not finite");
   ++result.stats.box_tests;
   MappedBox root_b;
   root_b.axes.noalias() = rel.rotation * tb.nodes[0].box.axes_d();
   root_b.center.noalias() = rel.rotation * tb.nodes[0].box.center_d() + rel.translation;
-  const bool roots_overlap =
-      box_overlap(ta.nodes[0].box, root_b, tb.nodes[0].box.half_extents, box_allowance(ta, tb, rel) + margin);
+  const bool roots_overlap = box_overlap_grouped(ta.nodes[0].box, root_b, tb.nodes[0].box.half_extents,
+                                                 box_allowance(ta, tb, rel) + margin);
   if constexpr (Traced)
     sink->tests.push_back({WideTraceSink::kRoot, WideTraceSink::kRoot, 0, 0,
                            roots_overlap ? PairOutcome::descended : PairOutcome::culled});

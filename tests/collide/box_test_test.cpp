@@ -114,6 +114,7 @@ TEST(BoxTest, OnePairAndBothLanesDecideAsObbOverlap) {
     const bool expected = reference(c.a, c.m, c.eb, c.margin);
     overlapping += expected;
     EXPECT_EQ(query_detail::box_overlap(c.a, c.m, c.eb, c.margin), expected) << "case " << i;
+    EXPECT_EQ(query_detail::box_overlap_grouped(c.a, c.m, c.eb, c.margin), expected) << "case " << i;
     // This case in lane 0 and in lane 1, next to another case (a different margin is not a
     // lane's: the two lanes of a query share it, so the neighbour takes this margin too).
     const Case& o = all[(i * 7919 + 13) % all.size()];

@@ -8,12 +8,13 @@
 //
 // Timing: thread CPU time (bench/thread_clock.hpp), median of --reps repetitions. Without frames,
 // one check is one self-collision of the unchanged scene (checks/s), and again with every object
-// moved to its own pose before each check (all moved/s); with frames, one repetition
+// moved before each check, alternately to its initial pose and to that pose shifted by a small
+// step (SceneData::stepped: all moved/s); with frames, one repetition
 // runs every frame: the moves (set_poses; setTransform + computeAABB + update; setWorldTransform)
 // and the self-collision that follows (frames/s).
 //
 //     tightbvh-bench --scene out/scenes/a-touching.json [--json OUT] [--reps N] [--engines tightbvh,fcl]
-//                             [--memory-objects N --memory-models M]
+//                             [--memory-objects N --memory-models M] [--step S]
 //
 // Memory: the scene's Scene::model_bytes() (each distinct model once) and Scene::own_bytes() (the
 // scene layer: objects, index, names, allowed pairs, top-level tree), against the bytes the
@@ -74,6 +75,7 @@ struct SceneData {
   std::vector<ModelPtr> models;               // per object (null for a shape)
   std::vector<std::optional<Shape>> shapes;   // per object (set for a shape)
   std::vector<Pose> poses;                    // initial poses
+  std::vector<Pose> stepped;                  // the same shifted by a small step (all moved/s)
   std::vector<std::vector<std::pair<std::uint32_t, Pose>>> frames;  // per frame: (index, pose)
   std::unordered_set<std::uint64_t> allowed;                         // key(i, j)
   std::vector<ModelPtr> distinct;                                    // each model once (shapes: none)
@@ -86,11 +88,13 @@ struct SceneData {
 
 using PairsPerFrame = std::vector<std::vector<IndexPair>>;  // [0]: initial poses, then one per frame
 
-// An engine holds its own copy of the scene; reset() puts the initial poses back, check() collides
-// the scene (appending the touching pairs), move() applies one frame.
+// An engine holds its own copy of the scene; place() moves every object (object i to poses[i]),
+// reset() puts the initial poses back, check() collides the scene (appending the touching pairs),
+// move() applies one frame.
 class Engine {
  public:
   virtual ~Engine() = default;
+  virtual void place(const std::vector<Pose>& poses) = 0;
   virtual void reset() = 0;
   virtual void move(std::size_t frame) = 0;
   virtual void check(std::vector<IndexPair>& out) = 0;
@@ -108,7 +112,8 @@ class TightbvhEngine final : public Engine {
       frame_poses_.push_back(std::move(poses));
     }
   }
-  void reset() override { scene_.set_poses(d_.ids, d_.poses); }
+  void place(const std::vector<Pose>& poses) override { scene_.set_poses(d_.ids, poses); }
+  void reset() override { place(d_.poses); }
   void move(std::size_t f) override { scene_.set_poses(frame_ids_[f], frame_poses_[f]); }
   void check(std::vector<IndexPair>& out) override {
     for (const ObjectPairHit& h : collide(scene_, QueryOptions{}, 1)) {
@@ -191,13 +196,14 @@ class FclEngine final : public Engine {
     request_.num_max_contacts = 1;
     request_.enable_contact = false;
   }
-  void reset() override {
+  void place(const std::vector<Pose>& poses) override {
     for (std::uint32_t i = 0; i < raw_.size(); ++i) {
-      raw_[i]->setTransform(fcl_transform(d_.poses[i]));
+      raw_[i]->setTransform(fcl_transform(poses[i]));
       raw_[i]->computeAABB();
     }
     manager_.update();
   }
+  void reset() override { place(d_.poses); }
   void move(std::size_t f) override {
     moved_.clear();
     for (const auto& [i, p] : d_.frames[f]) {
@@ -302,9 +308,10 @@ class BulletEngine final : public Engine {
       objects_.push_back(std::move(o));
     }
   }
-  void reset() override {
-    for (std::uint32_t i = 0; i < objects_.size(); ++i) objects_[i]->setWorldTransform(bullet_transform(d_.poses[i]));
+  void place(const std::vector<Pose>& poses) override {
+    for (std::uint32_t i = 0; i < objects_.size(); ++i) objects_[i]->setWorldTransform(bullet_transform(poses[i]));
   }
+  void reset() override { place(d_.poses); }
   void move(std::size_t f) override {
     for (const auto& [i, p] : d_.frames[f]) objects_[i]->setWorldTransform(bullet_transform(p));
   }
@@ -412,16 +419,23 @@ std::size_t mismatches(const PairsPerFrame& got, const PairsPerFrame& want) {
 
 // Checks/s over at least `min_seconds` of thread CPU time, in batches that double between clock
 // reads: reading the thread CPU clock is a system call (about 2 us here), a third of one check on
-// the small scenes. With `move_all`, each check follows a move of every object to the pose it has
-// (e.reset()): each engine then updates its broad phase for every object, and tightbvh's pair
-// cache is made anew.
-double checks_per_second(Engine& e, bool move_all, double min_seconds, std::vector<IndexPair>& pairs) {
+// the small scenes. With `move_all`, each check follows a move of every object, alternately to its
+// initial pose and to d.stepped: every world box changes, so each engine updates its broad phase
+// for every object, and tightbvh's pair cache is made anew. (A move to the pose an object already
+// has would not do: tightbvh keeps a box that did not change, as Bullet keeps a proxy whose box
+// still fits.)
+double checks_per_second(Engine& e, const SceneData& d, bool move_all, double min_seconds,
+                         std::vector<IndexPair>& pairs) {
   std::size_t count = 0;
+  bool shifted = false;
   const double t0 = thread_seconds();
   double t = 0;
   for (std::size_t batch = 1; t < min_seconds; batch *= 2) {
     for (std::size_t k = 0; k < batch; ++k) {
-      if (move_all) e.reset();
+      if (move_all) {
+        shifted = !shifted;
+        e.place(shifted ? d.stepped : d.poses);
+      }
       pairs.clear();
       e.check(pairs);
     }
@@ -437,10 +451,10 @@ double median(std::vector<double> values) {
 }
 
 // Without frames, checks/s with every object moved before each check: the median of `reps`.
-double rate_all_moved(Engine& e, int reps, double min_seconds) {
+double rate_all_moved(Engine& e, const SceneData& d, int reps, double min_seconds) {
   std::vector<double> rates;
   std::vector<IndexPair> pairs;
-  for (int r = 0; r < reps; ++r) rates.push_back(checks_per_second(e, true, min_seconds, pairs));
+  for (int r = 0; r < reps; ++r) rates.push_back(checks_per_second(e, d, true, min_seconds, pairs));
   return median(rates);
 }
 
@@ -453,7 +467,7 @@ double rate(Engine& e, const SceneData& d, int reps, double min_seconds) {
     e.reset();
     if (d.frames.empty()) {
       e.check(pairs);  // brings lazily built structures up to date outside the timing
-      rates.push_back(checks_per_second(e, false, min_seconds, pairs));
+      rates.push_back(checks_per_second(e, d, false, min_seconds, pairs));
     } else {
       pairs.clear();
       e.check(pairs);
@@ -523,6 +537,11 @@ int run(int argc, char** argv) {
   app.add_option("--reps", reps, "repetitions (median)")->check(CLI::PositiveNumber);
   app.add_option("--min-seconds", min_seconds, "without frames: CPU seconds per repetition");
   app.add_option("--engines", only, "subset of: tightbvh fcl fcl-export bullet")->delimiter(',');
+  double step = 1e-4;
+  app.add_option("--step", step,
+                 "without frames: the all-moved checks' step, a fraction of the scene's extent (0: every object "
+                 "re-posed where it is)")
+      ->check(CLI::NonNegativeNumber);
   std::size_t memory_objects = 0, memory_models = 10;
   app.add_option("--memory-objects", memory_objects, "also report the memory of this many objects sharing models");
   app.add_option("--memory-models", memory_models, "with --memory-objects: how many models they share")
@@ -549,6 +568,14 @@ int run(int argc, char** argv) {
     std::vector<std::pair<std::uint32_t, Pose>> moves;
     for (std::size_t k = 0; k < f.objects.size(); ++k) moves.emplace_back(index.at(f.objects[k]), f.poses[k]);
     d.frames.push_back(std::move(moves));
+  }
+  // All moved/s: a step of `step` times the scene's extent (the largest coordinate of a pose's
+  // translation) along every axis.
+  double extent = 0.0;
+  for (const Pose& p : d.poses) extent = std::max(extent, p.translation.cwiseAbs().maxCoeff());
+  for (Pose p : d.poses) {
+    p.translation += Vec3::Constant(step * (extent > 0.0 ? extent : 1.0));
+    d.stepped.push_back(p);
   }
   const bool frames = !d.frames.empty();
   std::fprintf(stderr, "%s: %zu objects, %zu models, %zu allowed pairs, %zu frames\n", scene_path.c_str(),
@@ -583,7 +610,7 @@ int run(int argc, char** argv) {
     for (const auto& f : got) found += f.size();
     const std::size_t bad = mismatches(got, truth);
     const double r = rate(*e, d, reps, min_seconds);
-    const double moved = frames ? 0.0 : rate_all_moved(*e, reps, min_seconds);
+    const double moved = frames ? 0.0 : rate_all_moved(*e, d, reps, min_seconds);
     rows.push_back({name, r, moved, bad, found});
     std::fprintf(stderr, "  %s: %.4g %s, %.4g checks/s after moving all, %zu pairs, %zu mismatches\n", name.c_str(),
                  r, frames ? "frames/s" : "checks/s", moved, found, bad);

@@ -116,7 +116,13 @@ struct State {
     is_moved.assign(slots.size(), 0);
   }
 
-  void mark_moved(std::uint32_t at) {
+  // Slot `at`'s new world box, its slot marked as moved. The broad phase sees a pose only through
+  // this box: where it is as it was (an object re-posed where it already is), the tree and the
+  // pair cache stay as they are, as Bullet's broad phase keeps a proxy whose new box fits its old one.
+  void move_box(std::uint32_t at, const Aabb& box) {
+    Aabb& old = slots[at].box;
+    if (box.min == old.min && box.max == old.max) return;
+    old = box;
     poses_dirty = true;
     if (!is_moved[at]) {
       is_moved[at] = 1;
@@ -586,8 +592,7 @@ void Scene::set_pose(ObjectId id, const Pose& pose) {
   Slot& slot = state_->slot(id, "set_pose");
   require_valid_pose(pose, "scene: set_pose", object_label(id, slot.object.name));
   slot.object.pose = pose;
-  slot.box = object_bounds(slot.object, pose);
-  state_->mark_moved(state_->index.at(id));
+  state_->move_box(state_->index.at(id), object_bounds(slot.object, pose));
 }
 
 void Scene::set_poses(std::span<const ObjectId> ids, std::span<const Pose> poses) {
@@ -605,8 +610,7 @@ void Scene::set_poses(std::span<const ObjectId> ids, std::span<const Pose> poses
   for (std::size_t i = 0; i < ids.size(); ++i) {
     Slot& slot = state_->slots[at[i]];
     slot.object.pose = poses[i];
-    slot.box = object_bounds(slot.object, poses[i]);
-    state_->mark_moved(at[i]);
+    state_->move_box(at[i], object_bounds(slot.object, poses[i]));
   }
 }
 

@@ -225,7 +225,7 @@ TEST(Scene, PairCacheFollowsMovesFiltersAndMargins) {
     for (std::size_t k = 0; k < count; ++k) {
       moved.push_back(round == 10 ? ids[k] : ids[r.rng() % ids.size()]);
       Pose p = scene.object(moved.back()).pose;
-      p.translation += Vec3(0.3, -0.2, 0.25) * (static_cast<double>(r.rng() % 5) - 2.0);
+      p.translation += Vec3(0.3, -0.2, 0.25) * (static_cast<double>(r.rng() % 4) - 1.5);  // never 0
       poses.push_back(p);
     }
     scene.set_poses(moved, poses);
@@ -250,6 +250,35 @@ TEST(Scene, PairCacheFollowsMovesFiltersAndMargins) {
   EXPECT_EQ(scene.tree_stats().pair_walks, before.pair_walks + 1);
   expect_same(collide(scene, wide), brute_collide(scene, nullptr, wide), "margin 0.05 again");
   EXPECT_EQ(scene.tree_stats().pair_walks, before.pair_walks + 1);
+}
+
+// A pose that leaves an object's world box as it was is no move for the broad phase: neither the
+// tree nor the pair cache changes, and the answers stay brute force's; a real move after it
+// updates the cache as before.
+TEST(Scene, RePosingInPlaceKeepsTheBroadPhase) {
+  RandomScene r(scene_test::mixed_models(), 11, 60, 3.5);
+  Scene& scene = r.scene;
+  const QueryOptions o{.mode = QueryMode::all_pairs};
+  expect_same(collide(scene, o), brute_collide(scene, nullptr, o), "initial");
+  const SceneTreeStats before = scene.tree_stats();
+  const std::vector<ObjectId> ids = scene.ids();
+  std::vector<Pose> poses;
+  for (const ObjectId id : ids) poses.push_back(scene.object(id).pose);
+  scene.set_poses(ids, poses);
+  scene.set_pose(ids[5], poses[5]);
+  expect_same(collide(scene, o), brute_collide(scene, nullptr, o), "in place");
+  const SceneTreeStats same = scene.tree_stats();
+  EXPECT_EQ(same.refits, before.refits);
+  EXPECT_EQ(same.pair_walks, before.pair_walks);
+  EXPECT_EQ(same.pair_updates, before.pair_updates);
+  Pose p = poses[7];
+  p.translation += Vec3(0.4, 0.0, -0.3);
+  scene.set_pose(ids[7], p);
+  expect_same(collide(scene, o), brute_collide(scene, nullptr, o), "one moved");
+  const SceneTreeStats moved = scene.tree_stats();
+  EXPECT_EQ(moved.refits, before.refits + 1);
+  EXPECT_EQ(moved.pair_walks, before.pair_walks);
+  EXPECT_EQ(moved.pair_updates, before.pair_updates + 1);
 }
 
 // Boundary cases the random scenes rarely make: unit boxes on a lattice touch their neighbours

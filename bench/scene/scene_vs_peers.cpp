@@ -39,6 +39,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -547,6 +548,7 @@ int run(int argc, char** argv) {
   app.add_option("--memory-models", memory_models, "with --memory-objects: how many models they share")
       ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
+  if (!std::isfinite(step)) throw InputError("--step must be a finite number >= 0, got " + std::to_string(step));
 
   SceneFile file = load_scene_file(scene_path);
   SceneData d;
